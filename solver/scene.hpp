@@ -1,0 +1,72 @@
+// The scene: every input of a run, typed and in SI units. Filled and validated by app/
+// (INI files + --set), consumed by the solver. Defaults are the paper's values (SPEC 8).
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace brittle {
+
+struct MaterialParams {
+  double rho0 = 1180.0;     ///< reference density [kg/m^3]
+  double E = 3.09e9;        ///< Young's modulus [Pa]
+  double nu = 0.35;         ///< Poisson's ratio [-]
+  double sigma_c = 75e6;    ///< tensile strength [Pa]
+  double gamma = 150.0;     ///< surface energy per unit reference area [N/m]
+  double zeta1 = 0.1;       ///< normalized dilatational damping (B.5) [-]
+  double zeta2 = 0.1;       ///< normalized distortional damping (B.5) [-]
+};
+
+/// The notched plate of SPEC 1: x in [0, L], y in [-H/2, H/2], z in [0, T].
+struct GeometryParams {
+  double L = 32e-3;            ///< length along x (crack direction) [m]
+  double H = 16e-3;            ///< height along y (loading direction) [m]
+  double T = 0.5e-3;           ///< thickness along z [m]
+  double notch_depth = 4e-3;   ///< a: wedge notch depth, tip at (a, 0) [m]; 0 = no notch
+  double notch_base = 0.2e-3;  ///< b: notch opening at x = 0 [m]
+};
+
+struct MeshParams {
+  std::string file;          ///< .msh or .vtu to read instead of generating (empty = generate)
+  double size = 500e-6;      ///< target element size h away from the band [m]
+  double band = 0.0;         ///< half-width of the refined band |y| < band (0 = none) [m]
+  double band_size = 0.0;    ///< element size inside the band (0 = size) [m]
+  int layers = 1;            ///< element layers through the thickness
+};
+
+struct LoadingParams {
+  /// Exactly one of the two is set (the other NaN).
+  double sigma_over_sigmac = std::numeric_limits<double>::quiet_NaN();
+  double sigma = std::numeric_limits<double>::quiet_NaN();  ///< [Pa]
+  double stress(const MaterialParams& m) const {
+    return std::isnan(sigma) ? sigma_over_sigmac * m.sigma_c : sigma;
+  }
+};
+
+struct RunParams {
+  double end_time = 30e-6;  ///< simulated time [s]
+  double cfl = 0.5;         ///< fraction of the stable time step
+  int threads = 0;          ///< OpenMP threads (0 = all cores)
+};
+
+struct OutputParams {
+  std::string directory = "out";      ///< where frames, CSV and summary go
+  double frame_interval = 1e-6;       ///< VTU frame every this much simulated time [s] (0 = none)
+  std::vector<double> frame_times;    ///< explicit frame times [s]; overrides frame_interval
+  bool vtu = true;                    ///< write VTU frames + PVD
+  double energy_interval = 0.1e-6;    ///< energies.csv row every this much simulated time [s]
+};
+
+struct Scene {
+  MaterialParams material;
+  GeometryParams geometry;
+  MeshParams mesh;
+  LoadingParams loading;
+  RunParams run;
+  OutputParams output;
+  std::vector<std::string> sources;  ///< the INI files and --set overrides it came from
+};
+
+}  // namespace brittle
