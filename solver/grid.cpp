@@ -1,1 +1,115 @@
-// (being written)
+// The live vtkUnstructuredGrid and the raw views the step loop works on.
+#include "grid.hpp"
+
+#include <vtkCellData.h>
+#include <vtkCellTypes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkUnsignedCharArray.h>
+
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+template <class Array>
+Array* add_array(vtkFieldData* data, const char* name, int components, vtkIdType tuples) {
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  a->Fill(0);
+  data->AddArray(a);
+  return a;
+}
+
+double* doubles(vtkFieldData* data, const char* name) {
+  auto* a = vtkDoubleArray::SafeDownCast(data->GetAbstractArray(name));
+  BRITTLE_CHECK(a, "live grid: array '", name, "' is missing");
+  return a->GetPointer(0);
+}
+
+}  // namespace
+
+Grid::Grid(vtkUnstructuredGrid& reference_mesh) {
+  const vtkIdType np = reference_mesh.GetNumberOfPoints();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(np);
+  for (vtkIdType i = 0; i < np; ++i) points->SetPoint(i, reference_mesh.GetPoint(i));
+
+  auto offsets = vtkSmartPointer<vtkTypeInt64Array>::New();
+  auto connectivity = vtkSmartPointer<vtkTypeInt64Array>::New();
+  offsets->InsertNextValue(0);
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  for (vtkIdType c = 0; c < reference_mesh.GetNumberOfCells(); ++c) {
+    if (reference_mesh.GetCellType(c) != VTK_TETRA) continue;
+    reference_mesh.GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < 4; ++k) connectivity->InsertNextValue(ids->GetId(k));
+    offsets->InsertNextValue(connectivity->GetNumberOfValues());
+  }
+  BRITTLE_CHECK(connectivity->GetNumberOfValues() > 0, "live grid: the mesh has no tetrahedra");
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  cells->SetData(offsets, connectivity);
+
+  grid_ = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid_->SetPoints(points);
+  grid_->SetCells(VTK_TETRA, cells);
+
+  const vtkIdType nc = grid_->GetNumberOfCells();
+  auto* pd = grid_->GetPointData();
+  auto* X = add_array<vtkDoubleArray>(pd, field::reference_position, 3, np);
+  for (vtkIdType i = 0; i < np; ++i) X->SetTuple(i, reference_mesh.GetPoint(i));
+  add_array<vtkDoubleArray>(pd, field::velocity, 3, np);
+  add_array<vtkDoubleArray>(pd, field::displacement, 3, np);
+  add_array<vtkDoubleArray>(pd, field::mass, 1, np);
+  add_array<vtkUnsignedCharArray>(pd, field::fixed, 1, np);
+  pd->SetActiveVectors(field::displacement);
+
+  auto* cd = grid_->GetCellData();
+  add_array<vtkDoubleArray>(cd, field::damage, 1, nc);
+  add_array<vtkDoubleArray>(cd, field::sigma1_over_sigmac, 1, nc);
+  add_array<vtkDoubleArray>(cd, field::stress, 6, nc);
+  cd->SetActiveScalars(field::sigma1_over_sigmac);
+
+  auto time = vtkSmartPointer<vtkDoubleArray>::New();
+  time->SetName(field::time);
+  time->SetNumberOfTuples(1);
+  time->SetValue(0, 0.0);
+  grid_->GetFieldData()->AddArray(time);
+  refresh();
+}
+
+void Grid::refresh() {
+  num_points_ = grid_->GetNumberOfPoints();
+  num_cells_ = grid_->GetNumberOfCells();
+  x_ = vtkDoubleArray::SafeDownCast(grid_->GetPoints()->GetData())->GetPointer(0);
+  auto* pd = grid_->GetPointData();
+  X_ = doubles(pd, field::reference_position);
+  v_ = doubles(pd, field::velocity);
+  u_ = doubles(pd, field::displacement);
+  mass_ = doubles(pd, field::mass);
+  fixed_ = vtkUnsignedCharArray::SafeDownCast(pd->GetAbstractArray(field::fixed))->GetPointer(0);
+  conn_ = grid_->GetCells()->GetConnectivityArray64()->GetPointer(0);
+  auto* cd = grid_->GetCellData();
+  damage_ = doubles(cd, field::damage);
+  sigma1_ = doubles(cd, field::sigma1_over_sigmac);
+  stress_ = doubles(cd, field::stress);
+}
+
+void Grid::update_displacement() {
+  for (vtkIdType i = 0; i < 3 * num_points_; ++i) u_[i] = x_[i] - X_[i];
+}
+
+void Grid::mark_modified() {
+  grid_->GetPoints()->Modified();
+  grid_->GetPointData()->Modified();
+  grid_->GetCellData()->Modified();
+  grid_->Modified();
+}
+
+}  // namespace brittle

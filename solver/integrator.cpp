@@ -1,1 +1,162 @@
-// (being written)
+// Element forces (B.4)+(B.5), deterministic assembly, lumped mass and the stable step.
+#include "integrator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+Vec3 point(const double* a, vtkIdType i) { return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+
+/// Columns p1 - p0, p2 - p0, p3 - p0 of the four corners of tet e in array a.
+Mat3 edge_matrix(const double* a, const vtkIdType* n) {
+  const Vec3 p0 = point(a, n[0]);
+  Mat3 M;
+  for (int k = 0; k < 3; ++k) M.col(k) = point(a, n[k + 1]) - p0;
+  return M;
+}
+
+}  // namespace
+
+ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
+                              const MaterialParams& m) {
+  const vtkIdType ne = grid.num_cells();
+  ElementData d;
+  d.Dm_inv.resize(9 * ne);
+  d.V0.resize(ne);
+  d.eta_dil.resize(ne);
+  d.eta_dev.resize(ne);
+  for (vtkIdType e = 0; e < ne; ++e) {
+    const Mat3 Dm = edge_matrix(grid.X(), grid.cells() + 4 * e);
+    const double V0 = Dm.determinant() / 6.0;
+    BRITTLE_CHECK(V0 > 0.0, "mesh: tetrahedron ", e, " has reference volume ", V0,
+                  " (expected > 0)");
+    Eigen::Map<RowMat3>(d.Dm_inv.data() + 9 * e) = Dm.inverse();
+    d.V0[e] = V0;
+    const double h_e = std::cbrt(6.0 * std::sqrt(2.0) * V0);  // edge of the regular tet of volume V0
+    d.eta_dil[e] = m.zeta1 * c.rho0 * c.c_p * h_e;
+    d.eta_dev[e] = m.zeta2 * c.rho0 * c.c_s * h_e;
+  }
+  return d;
+}
+
+void lump_masses(Grid& grid, const ElementData& elements, double rho0) {
+  double* mass = grid.mass();
+  std::fill(mass, mass + grid.num_points(), 0.0);
+  const vtkIdType* cells = grid.cells();
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+    for (int k = 0; k < 4; ++k) mass[cells[4 * e + k]] += 0.25 * rho0 * elements.V0[e];
+}
+
+double stable_time_step(const Grid& grid, const ElasticConstants& c, const MaterialParams& m,
+                        double cfl) {
+  double h_min = std::numeric_limits<double>::infinity();
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    const vtkIdType* n = grid.cells() + 4 * e;
+    const Mat3 Ds = edge_matrix(grid.x(), n);
+    const double V = Ds.determinant() / 6.0;
+    // The smallest altitude is 3V over the largest face area.
+    const Vec3 a = Ds.col(0), b = Ds.col(1), d = Ds.col(2);
+    const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(), d.cross(a).norm(),
+                                        (b - a).cross(d - a).norm()});
+    h_min = std::min(h_min, 3.0 * V / face);
+  }
+  const double zeta = std::max(m.zeta1, m.zeta2);
+  return cfl * h_min / c.c_p * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
+ForceAssembler::ForceAssembler(const Grid& grid, const ElasticConstants& c)
+    : K_(c.K), mu_(c.mu) {
+  rebuild(grid);
+}
+
+void ForceAssembler::rebuild(const Grid& grid) {
+  const vtkIdType np = grid.num_points(), ne = grid.num_cells();
+  const vtkIdType* cells = grid.cells();
+  element_force_.assign(12 * ne, 0.0);
+  viscous_power_.assign(ne, 0.0);
+  node_start_.assign(np + 1, 0);
+  for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
+  for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
+  node_entries_.resize(4 * ne);
+  std::vector<vtkIdType> fill(node_start_.begin(), node_start_.end() - 1);
+  for (vtkIdType i = 0; i < 4 * ne; ++i) node_entries_[fill[cells[i]]++] = i;  // in cell order
+}
+
+vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
+                                  std::vector<double>& force) {
+  const vtkIdType ne = grid.num_cells(), np = grid.num_points();
+  const vtkIdType* cells = grid.cells();
+  const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
+  double* stress = grid.stress();
+  double* ef = element_force_.data();
+  double* vp = viscous_power_.data();
+  const double K = K_, mu = mu_;
+  vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
+
+#pragma omp parallel for schedule(static) reduction(min : first_bad)
+  for (vtkIdType e = 0; e < ne; ++e) {
+    const vtkIdType* n = cells + 4 * e;
+    const Mat3 Ds = edge_matrix(x, n);
+    const Mat3 Vs = edge_matrix(v, n);
+    const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
+    const Mat3 F = Ds * Dm_inv;
+    const double J = F.determinant();
+    if (!(J > 0.0)) {  // inverted, degenerate or NaN: report, leave forces of this element
+      first_bad = std::min(first_bad, e);
+      continue;
+    }
+    // G = Dm^-1 F^-1 = Ds^-1: its rows are the current gradients of N1..N3.
+    const Mat3 G = Dm_inv * F.inverse();
+    const Mat3 T_el = elastic_stress(F, J, K, mu, Omega[e]);  // (B.4)
+    const Mat3 L = Vs * G;                                   // velocity gradient
+    const Mat3 D = 0.5 * (L + L.transpose());
+    const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
+    const double vol = J * el.V0[e];
+    // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3)
+    const Mat3 f = -vol * (T_el + T_v) * G.transpose();
+    const Vec3 f0 = -f.rowwise().sum();
+    double* out = ef + 12 * e;
+    for (int k = 0; k < 3; ++k) {
+      out[k] = f0[k];
+      out[3 + k] = f(k, 0);
+      out[6 + k] = f(k, 1);
+      out[9 + k] = f(k, 2);
+    }
+    vp[e] = vol * (T_v.cwiseProduct(D)).sum();
+    double* s = stress + 6 * e;
+    s[0] = T_el(0, 0), s[1] = T_el(1, 1), s[2] = T_el(2, 2);
+    s[3] = T_el(0, 1), s[4] = T_el(1, 2), s[5] = T_el(0, 2);
+  }
+
+  force.resize(3 * np);
+  const vtkIdType* start = node_start_.data();
+  const vtkIdType* entries = node_entries_.data();
+  double* f = force.data();
+#pragma omp parallel for schedule(static)
+  for (vtkIdType p = 0; p < np; ++p) {
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (vtkIdType k = start[p]; k < start[p + 1]; ++k) {
+      const double* c = ef + 3 * entries[k];
+      s0 += c[0], s1 += c[1], s2 += c[2];
+    }
+    f[3 * p] = s0, f[3 * p + 1] = s1, f[3 * p + 2] = s2;
+  }
+  return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
+}
+
+double ForceAssembler::viscous_power() const {
+  double sum = 0.0;
+  for (double p : viscous_power_) sum += p;
+  return sum;
+}
+
+}  // namespace brittle

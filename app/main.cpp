@@ -1,0 +1,122 @@
+// brittle: command line entry point. Parses the scene, builds the simulation, attaches the
+// writers, runs, and maps errors to a one-line message and a non-zero exit code.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <boost/program_options.hpp>
+
+#include "error.hpp"
+#include "output.hpp"
+#include "plate_mesh.hpp"
+#include "scene_options.hpp"
+#include "simulation.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kUsage =
+    "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
+    "       brittle run --help      (every scene key with default, unit and meaning)\n"
+    "       brittle --version\n";
+
+/// Progress on stderr (steps, simulated time, ETA), only when stderr is a terminal.
+class Progress : public brittle::Observer {
+ public:
+  void on_start(const brittle::Simulation& sim) override {
+    start_ = last_ = std::chrono::steady_clock::now();
+    std::fprintf(stderr, "brittle: %lld nodes, %lld tets, dt = %.4g s, %ld steps to %.4g s\n",
+                 static_cast<long long>(sim.grid().num_points()),
+                 static_cast<long long>(sim.grid().num_cells()), sim.dt(),
+                 static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5),
+                 sim.scene().run.end_time);
+  }
+  void on_step(const brittle::Simulation& sim) override {
+    if (!tty_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(500)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double fraction = sim.time() / sim.scene().run.end_time;
+    const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
+    std::fprintf(stderr, "\r  step %ld  t = %.3f us (%.0f%%)  ETA %.0f s   ", sim.steps(),
+                 sim.time() * 1e6, 100 * fraction, eta);
+  }
+  void on_finish(const brittle::Simulation&, const brittle::RunSummary& s) override {
+    if (tty_) std::fputc('\n', stderr);
+    std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n",
+                 s.status.c_str(), s.steps, s.wall_seconds, s.tet_updates_per_second);
+  }
+
+ private:
+  bool tty_ = isatty(STDERR_FILENO);
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+int run_command(const std::vector<std::string>& args) {
+  po::options_description opts("brittle run options");
+  std::vector<std::string> files, sets;
+  std::string out;
+  opts.add_options()("help,h", "list every scene key with its default, unit and meaning")(
+      "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
+      "out", po::value(&out), "output directory (overrides output.directory)")(
+      "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
+  po::positional_options_description positional;
+  positional.add("scene", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << kUsage << "\n" << opts << "\nScene keys (INI sections [section], key = value):\n";
+    brittle::print_scene_keys(std::cout);
+    return 0;
+  }
+  BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (", "usage: brittle run "
+                "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
+  brittle::Scene scene = brittle::load_scene(files, sets);
+  if (!out.empty()) scene.output.directory = out;
+
+  auto mesh = brittle::make_mesh(scene);
+  brittle::Simulation sim(scene, *mesh);
+  fs::create_directories(scene.output.directory);
+  brittle::OutputWriters writers(sim);
+  Progress progress;
+  std::vector<brittle::Observer*> observers = writers.observers();
+  observers.push_back(&progress);
+  const brittle::RunSummary summary = sim.run(observers);
+  std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.empty()) {
+      std::cerr << kUsage;
+      return 2;
+    }
+    if (args[0] == "--version" || args[0] == "version") {
+      std::cout << "brittle " << BRITTLE_VERSION << "\n";
+      return 0;
+    }
+    if (args[0] == "--help" || args[0] == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (args[0] == "run") return run_command({args.begin() + 1, args.end()});
+    std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "brittle: error: " << e.what() << "\n";
+    return 2;
+  }
+}

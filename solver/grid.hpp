@@ -1,0 +1,66 @@
+// The live grid: a vtkUnstructuredGrid of linear tets that *is* the simulation state
+// (points = current positions, point data = nodal fields, cell data = element fields).
+#pragma once
+
+#include <cstdint>
+
+#include <vtkCellArray.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
+namespace brittle {
+
+/// Names of the arrays kept on the live grid (written as they are to VTU).
+namespace field {
+inline constexpr const char* reference_position = "reference_position";  // X, point, 3
+inline constexpr const char* velocity = "velocity";                      // point, 3
+inline constexpr const char* displacement = "displacement";              // x - X, point, 3
+inline constexpr const char* mass = "mass";                              // lumped, point, 1
+inline constexpr const char* fixed = "fixed";                            // BC flag, point, 1
+inline constexpr const char* damage = "damage";                          // Omega, cell, 1
+inline constexpr const char* sigma1_over_sigmac = "sigma1_over_sigmac";  // cell, 1
+inline constexpr const char* stress = "stress";  // T_el, cell, 6 (xx yy zz xy yz xz)
+inline constexpr const char* time = "TimeValue";  // field data, ParaView's name
+}  // namespace field
+
+/// Owns the vtkUnstructuredGrid and hands out raw contiguous views of its arrays for the
+/// step loop. Views are invalidated when points are appended; call refresh() afterwards.
+class Grid {
+ public:
+  /// Copies the reference mesh (tets only) into a new live grid with 64-bit cell storage and
+  /// adds the nodal and element arrays above, zero-initialised; positions = reference.
+  explicit Grid(vtkUnstructuredGrid& reference_mesh);
+
+  vtkUnstructuredGrid* vtk() const { return grid_; }
+  vtkIdType num_points() const { return num_points_; }
+  vtkIdType num_cells() const { return num_cells_; }
+
+  // Raw views (struct of arrays); 3 doubles per point for vector fields.
+  double* x() const { return x_; }                 ///< current positions
+  double* X() const { return X_; }                 ///< reference positions
+  double* v() const { return v_; }                 ///< velocities
+  double* u() const { return u_; }                 ///< displacements (filled by update_displacement)
+  double* mass() const { return mass_; }
+  std::uint8_t* fixed() const { return fixed_; }
+  vtkIdType* cells() const { return conn_; }       ///< 4 point ids per tet, contiguous
+  double* damage() const { return damage_; }
+  double* sigma1_over_sigmac() const { return sigma1_; }
+  double* stress() const { return stress_; }      ///< 6 per cell
+
+  /// displacement = x - X, before output.
+  void update_displacement();
+  /// Re-reads array pointers and sizes after the VTK arrays changed size.
+  void refresh();
+  /// Marks the grid modified for VTK pipelines (writers, renderers) after a step.
+  void mark_modified();
+
+ private:
+  vtkSmartPointer<vtkUnstructuredGrid> grid_;
+  vtkIdType num_points_ = 0, num_cells_ = 0;
+  double *x_ = nullptr, *X_ = nullptr, *v_ = nullptr, *u_ = nullptr, *mass_ = nullptr;
+  std::uint8_t* fixed_ = nullptr;
+  vtkIdType* conn_ = nullptr;
+  double *damage_ = nullptr, *sigma1_ = nullptr, *stress_ = nullptr;
+};
+
+}  // namespace brittle

@@ -1,0 +1,59 @@
+// Explicit central-difference dynamics of linear tets with lumped mass (paper 2.1, App. B):
+// per-element forces (B.4)+(B.5), deterministic assembly, the stable time step (SPEC 4).
+#pragma once
+
+#include <vector>
+
+#include "grid.hpp"
+#include "material.hpp"
+
+namespace brittle {
+
+/// Per-element constants, struct of arrays indexed by cell (reference configuration).
+struct ElementData {
+  std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
+  std::vector<double> V0;       ///< reference volume
+  std::vector<double> eta_dil;  ///< zeta1 rho0 c_p h_e: bulk viscosity of the element
+  std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
+};
+
+/// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
+/// brittle::Error for a cell with non-positive reference volume.
+ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const MaterialParams& m);
+
+/// Lumped masses: each node gets rho0 V0 / 4 from each of its elements (2.1).
+void lump_masses(Grid& grid, const ElementData& elements, double rho0);
+
+/// dt = cfl * min over elements (min altitude, current configuration) / c_p, reduced by
+/// sqrt(1 + zeta^2) - zeta for the viscous term (zeta = max(zeta1, zeta2)).
+double stable_time_step(const Grid& grid, const ElasticConstants& c, const MaterialParams& m,
+                        double cfl);
+
+/// Nodal internal forces. Elements write their 12 force components into a buffer in cell
+/// order; each node then sums its (element, corner) entries in a fixed order. No atomics and
+/// no reductions over threads, so results are bitwise independent of the thread count.
+class ForceAssembler {
+ public:
+  ForceAssembler(const Grid& grid, const ElasticConstants& c);
+
+  /// Rebuilds the node -> (element, corner) table (after topology changes).
+  void rebuild(const Grid& grid);
+
+  /// Computes elastic + viscous nodal forces at the grid's current x and v into `force`
+  /// (3 per point), the elastic stress into the grid's "stress" cell array, and per-element
+  /// viscous power v T_v : D. Returns the index of the first element with J <= 0 or NaN,
+  /// or -1 if none.
+  vtkIdType compute(const Grid& grid, const ElementData& elements, std::vector<double>& force);
+
+  /// Sum over elements of v T_v : D from the last compute() (deterministic order).
+  double viscous_power() const;
+
+ private:
+  double K_, mu_;
+  std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
+  std::vector<double> viscous_power_;   // 1 per element
+  std::vector<vtkIdType> node_start_;   // CSR: node -> range in node_entries_
+  std::vector<vtkIdType> node_entries_; // 4 * element + corner
+};
+
+}  // namespace brittle

@@ -1,0 +1,58 @@
+// Nonlinear elastic Cosserat-point tetrahedron with linear viscosity (paper Appendix B,
+// eqs. B.2-B.9) and the wave speeds of the small-strain limit (SPEC 2, 3, 8).
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "scene.hpp"
+
+namespace brittle {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+
+/// Moduli and wave speeds derived from (E, nu, rho0).
+struct ElasticConstants {
+  double rho0 = 0, K = 0, mu = 0;  ///< density, bulk and shear moduli (B.3)
+  double c_p = 0, c_s = 0;         ///< small-strain P and S wave speeds (3-D)
+  static ElasticConstants from(const MaterialParams& m);
+  double bar_speed(double E) const { return std::sqrt(E / rho0); }
+};
+
+/// Rayleigh wave speed for given P and S speeds: root of (2 - k^2)^2 = 4 sqrt(1 - k^2)
+/// sqrt(1 - k^2 c_s^2/c_p^2), k = v/c_s. For plane stress pass c_p = sqrt(E/(rho0 (1 - nu^2))).
+double rayleigh_speed(double c_p, double c_s);
+
+/// rho0 Sigma = (1-Omega) [K((J-1) - ln J) + mu/2 (alpha1 - 3)],  alpha1 = J^(-2/3) tr B   (B.2)
+double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
+
+/// T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)]   (B.4), J = det F given.
+inline Mat3 elastic_stress(const Mat3& F, double J, double K, double mu, double Omega) {
+  const Mat3 B = F * F.transpose();
+  const double c = std::cbrt(J);
+  const double mu_J53 = mu / (J * c * c);  // mu J^(-5/3) without pow()
+  Mat3 T = mu_J53 * B;
+  T.diagonal().array() += -K * (1.0 / J - 1.0) - mu_J53 * B.trace() / 3.0;
+  return (1.0 - Omega) * T;
+}
+inline Mat3 elastic_stress(const Mat3& F, double K, double mu, double Omega) {
+  return elastic_stress(F, F.determinant(), K, mu, Omega);
+}
+
+/// T_v = zeta1 rho0 c_p h_e tr(D) I + 2 zeta2 rho0 c_s h_e dev(D)   (B.5, SPEC 2)
+inline Mat3 viscous_stress(const Mat3& D, double eta_dil, double eta_dev) {
+  const double trD = D.trace();
+  Mat3 T = 2.0 * eta_dev * D;
+  T.diagonal().array() += (eta_dil - 2.0 * eta_dev / 3.0) * trD;
+  return T;
+}
+
+/// Uniaxial stress sigma along y: x = (b X, lambda Y, b Z)   (B.6)-(B.9), loading axis = y.
+struct UniaxialStretch {
+  double lambda = 1, b = 1, J = 1;
+};
+UniaxialStretch uniaxial_prestress(double sigma, double K, double mu);
+
+}  // namespace brittle

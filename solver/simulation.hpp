@@ -1,0 +1,100 @@
+// The simulation: owns the live grid and the physics, advances it in time and tells
+// observers (writers, renderers, trackers) about steps, frames and energies.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <vtkUnstructuredGrid.h>
+
+#include "grid.hpp"
+#include "integrator.hpp"
+#include "material.hpp"
+#include "scene.hpp"
+
+namespace brittle {
+
+/// The energy budget (SPEC 7) at one instant; grows terms as mechanisms are added.
+struct Energies {
+  double time = 0;
+  double kinetic = 0;             ///< sum 1/2 m v^2
+  double elastic = 0;             ///< sum V0 rho0 Sigma   (B.2)
+  double viscous_dissipated = 0;  ///< integral of sum v T_v : D dt
+  double total() const { return kinetic + elastic + viscous_dissipated; }
+};
+
+struct RunSummary {
+  std::string status = "running";  ///< "completed" or "failed: <reason>"
+  vtkIdType nodes = 0, tets = 0, fixed_nodes = 0;
+  double sigma = 0, dt = 0, end_time = 0, time = 0;
+  long steps = 0;
+  int threads = 1;
+  double wall_seconds = 0;          ///< time spent stepping (not writing)
+  double tet_updates_per_second = 0;
+  double initial_elastic = 0;
+  double max_relative_imbalance = 0;  ///< max |E(t) - E(0)| / E(0) over energy rows
+  Energies final_energies;
+};
+
+class Simulation;
+
+/// Hooks called by Simulation::run. on_step runs every step: keep it cheap.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void on_start(const Simulation&) {}
+  virtual void on_step(const Simulation&) {}
+  virtual void on_frame(const Simulation&) {}  ///< output fields of the grid are up to date
+  virtual void on_energy(const Simulation&, const Energies&) {}
+  virtual void on_finish(const Simulation&, const RunSummary&) {}
+};
+
+class Simulation {
+ public:
+  /// Builds the live grid from the reference mesh, applies the uniaxial pre-stress
+  /// (B.6)-(B.9) and the fixed lateral boundaries, lumps masses and picks the stable step.
+  Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh);
+
+  /// One explicit step (velocity Verlet): kick, drift, forces, kick. Throws brittle::Error
+  /// if an element inverts or a value turns NaN.
+  void step();
+
+  /// Steps until run.end_time, calling observers; frame and energy times from the scene.
+  /// On a blow-up the observers still get on_finish (status "failed: ...") and the
+  /// error is rethrown.
+  RunSummary run(const std::vector<Observer*>& observers);
+
+  double time() const { return time_; }
+  double dt() const { return dt_; }
+  long steps() const { return steps_; }
+  double sigma() const { return sigma_; }
+  const Scene& scene() const { return scene_; }
+  const ElasticConstants& constants() const { return constants_; }
+  const ElementData& elements() const { return elements_; }
+  Grid& grid() { return grid_; }
+  const Grid& grid() const { return grid_; }
+  const std::vector<double>& force() const { return force_; }
+
+  /// Kinetic, elastic and dissipated energies now (deterministic serial sums).
+  Energies energies() const;
+
+  /// Fills the derived output fields (displacement, sigma1/sigma_c, time) of the grid.
+  void update_output_fields();
+
+  /// Frame times from output.frame_times or output.frame_interval, within [0, end_time].
+  std::vector<double> frame_times() const;
+
+ private:
+  Scene scene_;
+  ElasticConstants constants_;
+  double sigma_ = 0;
+  Grid grid_;
+  ElementData elements_;
+  ForceAssembler assembler_;
+  std::vector<double> force_;
+  double dt_ = 0, time_ = 0;
+  long steps_ = 0;
+  double viscous_dissipated_ = 0;
+};
+
+}  // namespace brittle
