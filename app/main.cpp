@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <boost/program_options.hpp>
+#include <vtkObject.h>
 
 #include "error.hpp"
 #include "output.hpp"
@@ -98,6 +99,9 @@ int run_command(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // VTK's own multi-line error log would break the one-line error contract: every VTK
+  // failure that matters is turned into a brittle::Error by the code that called VTK.
+  vtkObject::GlobalWarningDisplayOff();
   try {
     std::vector<std::string> args(argv + 1, argv + argc);
     if (args.empty()) {

@@ -6,7 +6,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include <vtkXMLDataElement.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkXMLUtilities.h>
 
 #include "error.hpp"
 
@@ -54,6 +56,28 @@ void VtuSeriesWriter::on_frame(const Simulation& sim) {
         << "\"/>\n";
   pvd << "  </Collection>\n</VTKFile>\n";
   write_file_atomically(pvd_path_, pvd.str());
+}
+
+std::vector<PvdEntry> read_pvd(const std::string& path) {
+  BRITTLE_CHECK(fs::is_regular_file(path), "time series '", path, "': no such file");
+  vtkSmartPointer<vtkXMLDataElement> root;
+  root.TakeReference(vtkXMLUtilities::ReadElementFromFile(path.c_str()));
+  BRITTLE_CHECK(root && root->GetAttribute("type") &&
+                    std::string(root->GetAttribute("type")) == "Collection",
+                "time series '", path, "': not a VTK .pvd collection");
+  vtkXMLDataElement* collection = root->FindNestedElementWithName("Collection");
+  BRITTLE_CHECK(collection, "time series '", path, "': no <Collection> element");
+  const fs::path base = fs::path(path).parent_path();
+  std::vector<PvdEntry> entries;
+  for (int i = 0; i < collection->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* d = collection->GetNestedElement(i);
+    const char* file = d->GetAttribute("file");
+    double t = 0;
+    BRITTLE_CHECK(file && d->GetScalarAttribute("timestep", t), "time series '", path,
+                  "': DataSet ", i, " lacks 'file' or 'timestep'");
+    entries.push_back({t, (base / file).string()});
+  }
+  return entries;
 }
 
 EnergyCsvWriter::EnergyCsvWriter(const std::string& directory)

@@ -47,6 +47,16 @@ class SummaryWriter : public Observer {
   std::string directory_;
 };
 
+/// One entry of a .pvd collection: simulated time and the path of its file.
+struct PvdEntry {
+  double time = 0;
+  std::string file;  ///< resolved against the .pvd's directory
+};
+
+/// Reads a .pvd collection (as written by VtuSeriesWriter or ParaView); throws
+/// brittle::Error naming the file if it cannot be parsed.
+std::vector<PvdEntry> read_pvd(const std::string& path);
+
 /// Writes `text` to `path` through a temporary file and a rename.
 void write_file_atomically(const std::string& path, const std::string& text);
 
