@@ -1,1 +1,507 @@
-// (being written)
+// Meshes of SPEC 1: the notched plate and a bar generated with Gmsh's C++ API, import of
+// .msh / .vtu tetrahedral meshes, and the locality-preserving numbering every mesh comes in.
+#include "plate_mesh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <gmsh.h>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+using Tet = std::array<vtkIdType, 4>;
+
+constexpr int kGmshTet4 = 4;  // Gmsh element type of the linear tetrahedron
+
+// ---------------------------------------------------------------------------------------------
+// Gmsh session
+
+std::mutex gmsh_mutex;
+
+/// Gmsh is one global state per process: one quiet session per call, serialised, and
+/// finalised on exit so that the next call starts clean. Errors throw (AbortOnError = 2,
+/// the API default) instead of printing or exiting.
+class GmshSession {
+ public:
+  explicit GmshSession(const char* model) : lock_(gmsh_mutex) {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 0);
+    gmsh::option::setNumber("General.AbortOnError", 2);
+    gmsh::model::add(model);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+};
+
+/// Gmsh's own message for the last error (call it inside the session).
+std::string gmsh_last_error() {
+  try {
+    std::string e;
+    gmsh::logger::getLastError(e);
+    return e;
+  } catch (...) {
+    return {};
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tetrahedra
+
+double signed_volume(const double* x0, const double* x1, const double* x2, const double* x3) {
+  const double a[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
+  const double b[3] = {x2[0] - x0[0], x2[1] - x0[1], x2[2] - x0[2]};
+  const double c[3] = {x3[0] - x0[0], x3[1] - x0[1], x3[2] - x0[2]};
+  return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+          a[2] * (b[0] * c[1] - b[1] * c[0])) /
+         6.0;
+}
+
+double mean_edge_length(const std::array<const double*, 4>& x) {
+  double sum = 0.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      sum += std::sqrt((x[i][0] - x[j][0]) * (x[i][0] - x[j][0]) +
+                       (x[i][1] - x[j][1]) * (x[i][1] - x[j][1]) +
+                       (x[i][2] - x[j][2]) * (x[i][2] - x[j][2]));
+  return sum / 6.0;
+}
+
+/// Tets as read or generated: points (xyz triples) and 4 point indices per tet, with the
+/// index of each tet in its source (for messages).
+struct TetSoup {
+  std::vector<double> xyz;
+  std::vector<Tet> tets;
+  std::vector<long long> source_ids;
+};
+
+/// Swaps two nodes of every inverted tet; throws for a zero-volume one (|V0| <= 1e-12 l^3,
+/// l the tet's mean edge length), naming `where` and the tet's index in its source.
+void orient_tets(TetSoup& soup, const std::string& where) {
+  for (std::size_t e = 0; e < soup.tets.size(); ++e) {
+    Tet& t = soup.tets[e];
+    const std::array<const double*, 4> x = {&soup.xyz[3 * t[0]], &soup.xyz[3 * t[1]],
+                                            &soup.xyz[3 * t[2]], &soup.xyz[3 * t[3]]};
+    const double v = signed_volume(x[0], x[1], x[2], x[3]);
+    const double l = mean_edge_length(x);
+    BRITTLE_CHECK(std::abs(v) > 1e-12 * l * l * l, where, ": tetrahedron ", soup.source_ids[e],
+                  " has zero volume");
+    if (v < 0.0) std::swap(t[2], t[3]);
+  }
+}
+
+/// Builds the grid from the used points only (first-use order), then renumbers it.
+vtkSmartPointer<vtkUnstructuredGrid> make_grid(const TetSoup& soup) {
+  const vtkIdType n_in = static_cast<vtkIdType>(soup.xyz.size() / 3);
+  std::vector<vtkIdType> new_id(n_in, -1);
+  vtkIdType n_used = 0;
+  vtkNew<vtkIdTypeArray> connectivity;
+  connectivity->SetNumberOfValues(4 * static_cast<vtkIdType>(soup.tets.size()));
+  vtkIdType k = 0;
+  for (const Tet& t : soup.tets)
+    for (vtkIdType p : t) {
+      if (new_id[p] < 0) new_id[p] = n_used++;
+      connectivity->SetValue(k++, new_id[p]);
+    }
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n_used);
+  for (vtkIdType p = 0; p < n_in; ++p)
+    if (new_id[p] >= 0) points->SetPoint(new_id[p], &soup.xyz[3 * p]);
+
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfValues(static_cast<vtkIdType>(soup.tets.size()) + 1);
+  for (vtkIdType c = 0; c < offsets->GetNumberOfValues(); ++c) offsets->SetValue(c, 4 * c);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
+
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(points);
+  grid->SetCells(VTK_TETRA, cells);
+  renumber_for_locality(*grid);
+  return grid;
+}
+
+/// All nodes and linear tets of the current Gmsh model; node tags mapped to indices.
+TetSoup gmsh_tets() {
+  TetSoup soup;
+  std::vector<std::size_t> node_tags;
+  std::vector<double> parametric;
+  gmsh::model::mesh::getNodes(node_tags, soup.xyz, parametric, -1, -1, false, false);
+  std::unordered_map<std::size_t, vtkIdType> index;
+  index.reserve(node_tags.size());
+  for (std::size_t i = 0; i < node_tags.size(); ++i)
+    index.emplace(node_tags[i], static_cast<vtkIdType>(i));
+
+  std::vector<std::size_t> element_tags, element_nodes;
+  gmsh::model::mesh::getElementsByType(kGmshTet4, element_tags, element_nodes);
+  soup.tets.resize(element_tags.size());
+  soup.source_ids.assign(element_tags.begin(), element_tags.end());
+  for (std::size_t e = 0; e < element_tags.size(); ++e)
+    for (int j = 0; j < 4; ++j) {
+      const auto it = index.find(element_nodes[4 * e + j]);
+      if (it == index.end()) throw Error("Gmsh mesh: tetrahedron refers to an unknown node");
+      soup.tets[e][j] = it->second;
+    }
+  return soup;
+}
+
+/// Extrudes the model's surfaces by `thickness` along z in `layers` layers of tets
+/// (built-in kernel, prisms split into tets) and meshes it.
+void extrude_and_mesh(double thickness, int layers) {
+  gmsh::vectorpair surfaces, extruded;
+  gmsh::model::geo::synchronize();
+  gmsh::model::getEntities(surfaces, 2);
+  gmsh::model::geo::extrude(surfaces, 0, 0, thickness, extruded, {layers}, {}, false);
+  gmsh::model::geo::synchronize();
+  gmsh::model::mesh::generate(3);
+}
+
+/// Runs `build` inside a Gmsh session and turns any Gmsh failure into brittle::Error.
+template <class Build>
+vtkSmartPointer<vtkUnstructuredGrid> with_gmsh(const char* what, Build build) {
+  TetSoup soup;
+  {
+    GmshSession session(what);
+    try {
+      build();
+      soup = gmsh_tets();
+    } catch (const Error&) {
+      throw;
+    } catch (...) {  // Gmsh 4.8 throws the message as std::string
+      throw Error(error_message(what, ": Gmsh failed (", gmsh_last_error(), ")"));
+    }
+  }
+  BRITTLE_CHECK(!soup.tets.empty(), what, ": Gmsh produced no tetrahedra");
+  orient_tets(soup, what);
+  return make_grid(soup);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Import
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+TetSoup read_msh(const std::string& path) {
+  GmshSession session("import");
+  try {
+    gmsh::open(path);
+    return gmsh_tets();
+  } catch (...) {  // keep Gmsh's reason, on one line
+    std::string reason = gmsh_last_error();
+    std::replace(reason.begin(), reason.end(), '\n', ' ');
+    throw std::runtime_error("Gmsh: " + reason);
+  }
+}
+
+/// Records VTK errors instead of letting them reach the output window.
+class ErrorCatcher : public vtkCommand {
+ public:
+  static ErrorCatcher* New() { return new ErrorCatcher; }
+  void Execute(vtkObject*, unsigned long, void*) override { failed = true; }
+  bool failed = false;
+};
+
+TetSoup read_vtu(const std::string& path) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  vtkNew<ErrorCatcher> catcher;
+  reader->AddObserver(vtkCommand::ErrorEvent, catcher);
+  reader->AddObserver(vtkCommand::WarningEvent, catcher);
+  if (!reader->CanReadFile(path.c_str())) throw std::runtime_error("not a VTK XML unstructured grid");
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* in = reader->GetOutput();
+  if (catcher->failed || in == nullptr || in->GetPoints() == nullptr)
+    throw std::runtime_error("VTK reader failed");
+
+  TetSoup soup;
+  const vtkIdType n_points = in->GetNumberOfPoints();
+  soup.xyz.resize(3 * n_points);
+  for (vtkIdType p = 0; p < n_points; ++p) in->GetPoint(p, &soup.xyz[3 * p]);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < in->GetNumberOfCells(); ++c) {
+    if (in->GetCellType(c) != VTK_TETRA) continue;
+    in->GetCellPoints(c, ids);
+    Tet t;
+    for (int j = 0; j < 4; ++j) {
+      t[j] = ids->GetId(j);
+      if (t[j] < 0 || t[j] >= n_points) throw std::runtime_error("bad point index");
+    }
+    soup.tets.push_back(t);
+    soup.source_ids.push_back(c);
+  }
+  return soup;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Space-filling curve
+
+/// Spreads the low 10 bits of v so that they occupy every third bit.
+std::uint32_t spread_bits(std::uint32_t v) {
+  v &= 0x3ffu;
+  v = (v | (v << 16)) & 0x030000ffu;
+  v = (v | (v << 8)) & 0x0300f00fu;
+  v = (v | (v << 4)) & 0x030c30c3u;
+  v = (v | (v << 2)) & 0x09249249u;
+  return v;
+}
+
+/// Morton (Z-order) key of a point, 10 bits per axis in the cube of side `extent` at `lo`
+/// (a cube, so that a thin plate is ordered in-plane first, not by its two faces).
+std::uint32_t morton_key(const double* x, const double* lo, double extent) {
+  std::uint32_t key = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double u = extent > 0.0 ? (x[d] - lo[d]) / extent : 0.0;
+    const auto q = static_cast<std::uint32_t>(std::clamp(u, 0.0, 1.0) * 1023.0 + 0.5);
+    key |= spread_bits(q) << d;
+  }
+  return key;
+}
+
+/// out[new] = in[old[new]] for every tuple of every array of `data`.
+void permute_arrays(vtkFieldData* data, const std::vector<vtkIdType>& old_of_new) {
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a) {
+    vtkAbstractArray* in = data->GetAbstractArray(a);
+    if (in == nullptr || in->GetNumberOfTuples() != static_cast<vtkIdType>(old_of_new.size()))
+      continue;
+    vtkSmartPointer<vtkAbstractArray> out;
+    out.TakeReference(in->NewInstance());
+    out->SetName(in->GetName());
+    out->SetNumberOfComponents(in->GetNumberOfComponents());
+    out->SetNumberOfTuples(in->GetNumberOfTuples());
+    for (std::size_t i = 0; i < old_of_new.size(); ++i)
+      out->SetTuple(static_cast<vtkIdType>(i), old_of_new[i], in);
+    in->DeepCopy(out);
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g,
+                                                         const MeshParams& m) {
+  BRITTLE_CHECK(g.L > 0 && g.H > 0 && g.T > 0, "plate: L, H, T must be > 0 (got ", g.L, ", ",
+                g.H, ", ", g.T, ")");
+  BRITTLE_CHECK(g.notch_depth >= 0 && g.notch_depth < g.L, "plate: notch depth ", g.notch_depth,
+                " must be in [0, L)");
+  BRITTLE_CHECK(g.notch_depth == 0 || (g.notch_base > 0 && g.notch_base < g.H),
+                "plate: notch base ", g.notch_base, " must be in (0, H)");
+  BRITTLE_CHECK(m.size > 0, "mesh.size ", m.size, " must be > 0");
+  BRITTLE_CHECK(m.layers >= 1, "mesh.layers ", m.layers, " must be >= 1");
+  BRITTLE_CHECK(m.band >= 0 && m.band_size >= 0, "mesh.band and mesh.band_size must be >= 0");
+
+  return with_gmsh("plate mesh", [&] {
+    namespace geo = gmsh::model::geo;
+    const double L = g.L, h2 = g.H / 2, a = g.notch_depth, b2 = g.notch_base / 2;
+    const int p_lower_left = geo::addPoint(0, -h2, 0);
+    const int p_lower_right = geo::addPoint(L, -h2, 0);
+    const int p_crack_end = geo::addPoint(L, 0, 0);
+    const int p_upper_right = geo::addPoint(L, h2, 0);
+    const int p_upper_left = geo::addPoint(0, h2, 0);
+    std::vector<int> outline = {geo::addLine(p_lower_left, p_lower_right),
+                                geo::addLine(p_lower_right, p_crack_end),
+                                geo::addLine(p_crack_end, p_upper_right),
+                                geo::addLine(p_upper_right, p_upper_left)};
+    int p_crack_start = 0;
+    if (a > 0) {  // wedge notch: mouth (0, +-b/2), tip (a, 0)
+      const int p_mouth_upper = geo::addPoint(0, b2, 0);
+      p_crack_start = geo::addPoint(a, 0, 0);
+      const int p_mouth_lower = geo::addPoint(0, -b2, 0);
+      outline.push_back(geo::addLine(p_upper_left, p_mouth_upper));
+      outline.push_back(geo::addLine(p_mouth_upper, p_crack_start));
+      outline.push_back(geo::addLine(p_crack_start, p_mouth_lower));
+      outline.push_back(geo::addLine(p_mouth_lower, p_lower_left));
+    } else {
+      p_crack_start = geo::addPoint(0, 0, 0);
+      outline.push_back(geo::addLine(p_upper_left, p_crack_start));
+      outline.push_back(geo::addLine(p_crack_start, p_lower_left));
+    }
+    const int surface = geo::addPlaneSurface({geo::addCurveLoop(outline)});
+    const int crack_line = geo::addLine(p_crack_start, p_crack_end);
+    geo::synchronize();
+    gmsh::model::mesh::embed(1, {crack_line}, 2, surface);
+
+    // Size: band_size inside |y| < band, growing to size over a transition of width `band`.
+    const double inner = m.band > 0 && m.band_size > 0 ? m.band_size : m.size;
+    const int box = gmsh::model::mesh::field::add("Box");
+    gmsh::model::mesh::field::setNumber(box, "VIn", inner);
+    gmsh::model::mesh::field::setNumber(box, "VOut", m.size);
+    gmsh::model::mesh::field::setNumber(box, "XMin", -L);
+    gmsh::model::mesh::field::setNumber(box, "XMax", 2 * L);
+    gmsh::model::mesh::field::setNumber(box, "YMin", -m.band);
+    gmsh::model::mesh::field::setNumber(box, "YMax", m.band);
+    gmsh::model::mesh::field::setNumber(box, "ZMin", -g.T);
+    gmsh::model::mesh::field::setNumber(box, "ZMax", 2 * g.T);
+    gmsh::model::mesh::field::setNumber(box, "Thickness", m.band);
+    gmsh::model::mesh::field::setAsBackgroundMesh(box);
+    gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+
+    extrude_and_mesh(g.T, m.layers);
+  });
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> generate_box_mesh(double lx, double ly, double lz, double h) {
+  BRITTLE_CHECK(lx > 0 && ly > 0 && lz > 0 && h > 0, "box mesh: lx, ly, lz, h must be > 0 (got ",
+                lx, ", ", ly, ", ", lz, ", ", h, ")");
+  const auto divisions = [h](double l) { return std::max(1, static_cast<int>(std::lround(l / h))); };
+  return with_gmsh("box mesh", [&] {
+    namespace geo = gmsh::model::geo;
+    // Structured: nx x ny rectangles, each split into two triangles with alternating
+    // diagonals, extruded in nz layers (every prism into three tets).
+    const int p0 = geo::addPoint(0, -ly / 2, 0), p1 = geo::addPoint(lx, -ly / 2, 0);
+    const int p2 = geo::addPoint(lx, ly / 2, 0), p3 = geo::addPoint(0, ly / 2, 0);
+    const int bottom = geo::addLine(p0, p1), right = geo::addLine(p1, p2);
+    const int top = geo::addLine(p2, p3), left = geo::addLine(p3, p0);
+    const int surface = geo::addPlaneSurface({geo::addCurveLoop({bottom, right, top, left})});
+    geo::mesh::setTransfiniteCurve(bottom, divisions(lx) + 1);
+    geo::mesh::setTransfiniteCurve(top, divisions(lx) + 1);
+    geo::mesh::setTransfiniteCurve(right, divisions(ly) + 1);
+    geo::mesh::setTransfiniteCurve(left, divisions(ly) + 1);
+    geo::mesh::setTransfiniteSurface(surface, "Alternate");
+    extrude_and_mesh(lz, divisions(lz));
+  });
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_mesh(const std::string& path) {
+  const std::string where = "mesh file '" + path + "'";
+  const std::string expected = " (expected a Gmsh .msh or VTK .vtu file holding tetrahedra)";
+  const std::string ext = lower_extension(path);
+  BRITTLE_CHECK(ext == ".msh" || ext == ".vtu", where, ": unknown extension '", ext, "'",
+                expected);
+  std::error_code ec;
+  BRITTLE_CHECK(std::filesystem::exists(path, ec), where, ": no such file", expected);
+  BRITTLE_CHECK(std::filesystem::is_regular_file(path, ec), where, ": not a regular file",
+                expected);
+
+  TetSoup soup;
+  try {
+    soup = ext == ".msh" ? read_msh(path) : read_vtu(path);
+  } catch (const std::exception& e) {
+    throw Error(where + ": cannot be read (" + e.what() + "; " + expected.substr(2));
+  } catch (...) {
+    throw Error(where + ": cannot be read" + expected);
+  }
+  BRITTLE_CHECK(!soup.tets.empty(), where, ": holds no tetrahedra", expected);
+  for (double c : soup.xyz)
+    BRITTLE_CHECK(std::isfinite(c), where, ": has a non-finite point coordinate");
+  orient_tets(soup, where);
+  return make_grid(soup);
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> make_mesh(const Scene& scene) {
+  return scene.mesh.file.empty() ? generate_plate_mesh(scene.geometry, scene.mesh)
+                                 : read_mesh(scene.mesh.file);
+}
+
+void renumber_for_locality(vtkUnstructuredGrid& grid) {
+  const vtkIdType n_cells = grid.GetNumberOfCells();
+  const vtkIdType n_points = grid.GetNumberOfPoints();
+  if (n_cells == 0 || n_points == 0) return;
+
+  double bounds[6];
+  grid.GetPoints()->GetBounds(bounds);
+  const double lo[3] = {bounds[0], bounds[2], bounds[4]};
+  const double extent =
+      std::max({bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4]});
+
+  // Cells ordered by the Morton key of their centroids (ties: old index, so deterministic).
+  std::vector<std::uint32_t> key(n_cells);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < n_cells; ++c) {
+    grid.GetCellPoints(c, ids);
+    double centroid[3] = {0, 0, 0};
+    for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) {
+      double x[3];
+      grid.GetPoint(ids->GetId(j), x);
+      for (int d = 0; d < 3; ++d) centroid[d] += x[d] / static_cast<double>(ids->GetNumberOfIds());
+    }
+    key[c] = morton_key(centroid, lo, extent);
+  }
+  std::vector<vtkIdType> old_cell(n_cells);
+  std::iota(old_cell.begin(), old_cell.end(), 0);
+  std::stable_sort(old_cell.begin(), old_cell.end(),
+                   [&key](vtkIdType p, vtkIdType q) { return key[p] < key[q]; });
+
+  // Points numbered by first use in the new cell order; unused points keep their order at the end.
+  std::vector<vtkIdType> new_point(n_points, -1);
+  std::vector<vtkIdType> old_point;
+  old_point.reserve(n_points);
+  for (vtkIdType c : old_cell) {
+    grid.GetCellPoints(c, ids);
+    for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) {
+      const vtkIdType p = ids->GetId(j);
+      if (new_point[p] < 0) {
+        new_point[p] = static_cast<vtkIdType>(old_point.size());
+        old_point.push_back(p);
+      }
+    }
+  }
+  for (vtkIdType p = 0; p < n_points; ++p)
+    if (new_point[p] < 0) {
+      new_point[p] = static_cast<vtkIdType>(old_point.size());
+      old_point.push_back(p);
+    }
+
+  vtkNew<vtkPoints> points;
+  points->SetDataType(grid.GetPoints()->GetDataType());
+  points->SetNumberOfPoints(n_points);
+  for (vtkIdType p = 0; p < n_points; ++p) points->SetPoint(p, grid.GetPoint(old_point[p]));
+
+  vtkNew<vtkUnsignedCharArray> types;
+  types->SetNumberOfValues(n_cells);
+  vtkNew<vtkCellArray> cells;
+  cells->AllocateEstimate(n_cells, 4);
+  std::vector<vtkIdType> conn;
+  for (vtkIdType c = 0; c < n_cells; ++c) {
+    grid.GetCellPoints(old_cell[c], ids);
+    conn.resize(ids->GetNumberOfIds());
+    for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) conn[j] = new_point[ids->GetId(j)];
+    cells->InsertNextCell(static_cast<vtkIdType>(conn.size()), conn.data());
+    types->SetValue(c, static_cast<unsigned char>(grid.GetCellType(old_cell[c])));
+  }
+
+  permute_arrays(grid.GetPointData(), old_point);
+  permute_arrays(grid.GetCellData(), old_cell);
+  grid.SetPoints(points);
+  grid.SetCells(types, cells);
+}
+
+}  // namespace brittle
