@@ -1,1 +1,607 @@
-// (being written)
+// Scene files: INI parsed with Boost.Program_options into one typed, validated Scene.
+// One table (scene_keys) gives every key its type, default, unit, meaning and valid range;
+// the options_description, the `--help` text and the validation are all built from it.
+#include "scene_options.hpp"
+
+#include <algorithm>
+#include <boost/program_options.hpp>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+/// Where a value came from: one scene file or one --set override.
+struct Source {
+  std::string label;  ///< "scene file 'x.ini'" or "--set"; starts every error message
+  fs::path dir;       ///< relative mesh.file paths are resolved against this
+};
+
+/// The outcome of checking one value.
+enum class Verdict { ok, malformed, out_of_range };
+
+/// One scene key: its type lives in `declare` (po::value<T>) and `apply` (as<T>()).
+struct Key {
+  std::string name;          ///< "section.key", as in the INI file and in --set
+  std::string unit;          ///< SI unit, empty if dimensionless
+  std::string meaning;       ///< what it is, in the paper's words
+  std::string range;         ///< valid values, e.g. "> 0"
+  std::string type_word;     ///< "a number", "an integer", ...: for "is not ..." messages
+  std::string default_text;  ///< shown by --help
+  bool allow_empty = false;  ///< may the value be an empty string?
+  std::function<void(po::options_description_easy_init&, const Key&)> declare;
+  /// Checks the value (already converted by Boost) and assigns it to the scene.
+  std::function<Verdict(const po::variable_value&, const Source&, Scene&)> apply;
+
+  std::string section() const { return name.substr(0, name.find('.')); }
+  /// "Young's modulus in Pa, > 0"
+  std::string expected() const {
+    std::string s = meaning;
+    if (!unit.empty()) s += " in " + unit;
+    if (!range.empty()) s += ", " + range;
+    return s;
+  }
+};
+
+/// Shortest text that reads back as v, fixed for moderate magnitudes: 1180, 0.0005, 3.09e+09.
+std::string format_double(double v) {
+  char buf[64];
+  const double magnitude = v == 0 ? 0 : std::floor(std::log10(std::abs(v)));
+  const auto style = (v == 0 || (magnitude >= -4 && magnitude < 7)) ? std::chars_format::fixed
+                                                                    : std::chars_format::scientific;
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v, style);
+  return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
+}
+
+template <class T>
+std::string type_word() {
+  if constexpr (std::is_same_v<T, double>)
+    return "a number";
+  else if constexpr (std::is_same_v<T, int>)
+    return "an integer";
+  else if constexpr (std::is_same_v<T, bool>)
+    return "true or false";
+  else
+    return "a string";
+}
+
+template <class T>
+std::string show(const T& v) {
+  if constexpr (std::is_same_v<T, double>)
+    return format_double(v);
+  else if constexpr (std::is_same_v<T, bool>)
+    return v ? "true" : "false";
+  else if constexpr (std::is_same_v<T, int>)
+    return std::to_string(v);
+  else
+    return v.empty() ? "\"\"" : v;
+}
+
+/// A key of type T whose checked value is handed to `set`. `def` is the Boost default (none for
+/// keys that are "unset" by default); `shown` is the default as --help prints it.
+template <class T>
+Key typed(std::string name, std::string unit, std::string meaning, std::string range,
+          std::optional<T> def, std::string shown,
+          std::function<Verdict(const T&, const Source&, Scene&)> set) {
+  Key k;
+  k.name = std::move(name);
+  k.unit = std::move(unit);
+  k.meaning = std::move(meaning);
+  k.range = std::move(range);
+  k.type_word = type_word<T>();
+  k.default_text = std::move(shown);
+  k.allow_empty = std::is_same_v<T, std::string>;
+  k.declare = [def](po::options_description_easy_init& add, const Key& key) {
+    const std::string help = key.expected();
+    if (def)
+      add(key.name.c_str(), po::value<T>()->default_value(*def, key.default_text), help.c_str());
+    else
+      add(key.name.c_str(), po::value<T>(), help.c_str());
+  };
+  k.apply = [set](const po::variable_value& v, const Source& src, Scene& scene) {
+    const T value = v.as<T>();
+    if constexpr (std::is_same_v<T, double>) {
+      if (!std::isfinite(value)) return Verdict::malformed;  // "nan", "inf"
+    }
+    return set(value, src, scene);
+  };
+  return k;
+}
+
+/// A key bound to a Scene member, valid when `ok(value)` holds.
+template <class Section, class T>
+Key field(std::string name, Section Scene::*section, T Section::*member, std::string unit,
+          std::string meaning, std::string range,
+          std::type_identity_t<std::function<bool(const T&)>> ok) {
+  const T def = Scene{}.*section.*member;
+  return typed<T>(std::move(name), std::move(unit), std::move(meaning), std::move(range), def,
+                  show(def), [section, member, ok](const T& v, const Source&, Scene& scene) {
+                    if (!ok(v)) return Verdict::out_of_range;
+                    scene.*section.*member = v;
+                    return Verdict::ok;
+                  });
+}
+
+bool positive(const double& v) {
+  return v > 0;
+}
+bool non_negative(const double& v) {
+  return v >= 0;
+}
+
+/// Comma- and/or whitespace-separated numbers, e.g. "1e-6, 15e-6 30e-6".
+std::optional<std::vector<double>> parse_double_list(const std::string& text) {
+  std::vector<double> out;
+  std::string token;
+  auto flush = [&]() {
+    if (token.empty()) return true;
+    double v = 0;
+    const char* last = token.data() + token.size();
+    auto [end, ec] = std::from_chars(token.data(), last, v);
+    token.clear();
+    if (ec != std::errc() || end != last || !std::isfinite(v)) return false;
+    out.push_back(v);
+    return true;
+  };
+  for (char c : text) {
+    if (c == ',' || std::isspace(static_cast<unsigned char>(c))) {
+      if (!flush()) return std::nullopt;
+    } else {
+      token += c;
+    }
+  }
+  if (!flush()) return std::nullopt;
+  return out;
+}
+
+using MP = MaterialParams;
+using GP = GeometryParams;
+using MeP = MeshParams;
+using RP = RunParams;
+using OP = OutputParams;
+
+/// THE table: every scene key, in the order --help and docs/scenes.md list them.
+const std::vector<Key>& scene_keys() {
+  static const std::vector<Key> keys = [] {
+    std::vector<Key> k;
+    // [material] — PMMA (SPEC 8, paper 6.2)
+    k.push_back(field("material.rho0", &Scene::material, &MP::rho0, "kg/m^3", "reference density",
+                      "> 0", positive));
+    k.push_back(
+        field("material.E", &Scene::material, &MP::E, "Pa", "Young's modulus", "> 0", positive));
+    k.push_back(field("material.nu", &Scene::material, &MP::nu, "", "Poisson's ratio",
+                      "-1 < nu < 0.5", [](const double& v) { return v > -1 && v < 0.5; }));
+    k.push_back(field("material.sigma_c", &Scene::material, &MP::sigma_c, "Pa",
+                      "tensile strength (node-splitting threshold)", "> 0", positive));
+    k.push_back(field("material.gamma", &Scene::material, &MP::gamma, "N/m",
+                      "surface energy per unit reference area", "> 0", positive));
+    k.push_back(field("material.zeta1", &Scene::material, &MP::zeta1, "",
+                      "normalized dilatational damping (B.5)", ">= 0", non_negative));
+    k.push_back(field("material.zeta2", &Scene::material, &MP::zeta2, "",
+                      "normalized distortional damping (B.5)", ">= 0", non_negative));
+    // [geometry] — the notched plate (SPEC 1)
+    k.push_back(field("geometry.L", &Scene::geometry, &GP::L, "m",
+                      "plate length along x (crack direction)", "> 0", positive));
+    k.push_back(field("geometry.H", &Scene::geometry, &GP::H, "m",
+                      "plate height along y (loading direction)", "> 0", positive));
+    k.push_back(field("geometry.T", &Scene::geometry, &GP::T, "m", "plate thickness along z", "> 0",
+                      positive));
+    k.push_back(field("geometry.notch_depth", &Scene::geometry, &GP::notch_depth, "m",
+                      "notch depth a, tip at (a, 0); 0 = no notch", "0 <= a < geometry.L",
+                      non_negative));
+    k.push_back(field("geometry.notch_base", &Scene::geometry, &GP::notch_base, "m",
+                      "notch opening b at x = 0", "0 <= b < geometry.H", non_negative));
+    // [mesh]
+    k.push_back(typed<std::string>(
+        "mesh.file", "", "Gmsh .msh or VTK .vtu tet mesh to read instead of generating",
+        "empty = generate; relative to the scene file's directory", std::string(), "\"\"",
+        [](const std::string& v, const Source& src, Scene& scene) {
+          if (v.empty()) {
+            scene.mesh.file.clear();
+          } else {
+            const fs::path p(v);
+            scene.mesh.file =
+                (p.is_relative() && !src.dir.empty() ? src.dir / p : p).lexically_normal().string();
+          }
+          return Verdict::ok;
+        }));
+    k.push_back(field("mesh.size", &Scene::mesh, &MeP::size, "m",
+                      "target element size h away from the band", "> 0", positive));
+    k.push_back(field("mesh.band", &Scene::mesh, &MeP::band, "m",
+                      "half-width of the refined band |y| < band (0 = none)", ">= 0",
+                      non_negative));
+    k.push_back(field("mesh.band_size", &Scene::mesh, &MeP::band_size, "m",
+                      "element size inside the band (0 = mesh.size)", ">= 0", non_negative));
+    k.push_back(field("mesh.layers", &Scene::mesh, &MeP::layers, "",
+                      "element layers through the thickness", ">= 1",
+                      [](const int& v) { return v >= 1; }));
+    // [loading] — exactly one of the two; a later source's choice clears the earlier one
+    k.push_back(typed<double>("loading.sigma_over_sigmac", "",
+                              "uniaxial pre-stress along y as a fraction of sigma_c",
+                              "0 < s < 3; give this or loading.sigma", std::nullopt, "(unset)",
+                              [](const double& v, const Source&, Scene& scene) {
+                                if (!(v > 0 && v < 3)) return Verdict::out_of_range;
+                                scene.loading.sigma_over_sigmac = v;
+                                scene.loading.sigma = std::numeric_limits<double>::quiet_NaN();
+                                return Verdict::ok;
+                              }));
+    k.push_back(
+        typed<double>("loading.sigma", "Pa", "uniaxial pre-stress along y",
+                      "> 0 and < 3K = E/(1-2nu); give this or loading.sigma_over_sigmac",
+                      std::nullopt, "(unset)", [](const double& v, const Source&, Scene& scene) {
+                        if (!(v > 0)) return Verdict::out_of_range;
+                        scene.loading.sigma = v;
+                        scene.loading.sigma_over_sigmac = std::numeric_limits<double>::quiet_NaN();
+                        return Verdict::ok;
+                      }));
+    // [run]
+    k.push_back(
+        field("run.end_time", &Scene::run, &RP::end_time, "s", "simulated time", "> 0", positive));
+    k.push_back(field("run.cfl", &Scene::run, &RP::cfl, "", "fraction of the stable time step",
+                      "0 < cfl <= 1", [](const double& v) { return v > 0 && v <= 1; }));
+    k.push_back(field("run.threads", &Scene::run, &RP::threads, "",
+                      "OpenMP threads (0 = all cores)", ">= 0",
+                      [](const int& v) { return v >= 0; }));
+    // [output]
+    k.push_back(
+        typed<std::string>("output.directory", "", "where frames, CSV files and the summary go",
+                           "not empty; relative to the working directory; --out overrides it",
+                           Scene{}.output.directory, show(Scene{}.output.directory),
+                           [](const std::string& v, const Source&, Scene& scene) {
+                             if (v.empty()) return Verdict::out_of_range;
+                             scene.output.directory = v;
+                             return Verdict::ok;
+                           }));
+    k.push_back(field("output.frame_interval", &Scene::output, &OP::frame_interval, "s",
+                      "VTU frame every this much simulated time (0 = none)", ">= 0", non_negative));
+    k.push_back(typed<std::string>(
+        "output.frame_times", "s",
+        "explicit frame times, comma/space separated; override output.frame_interval",
+        "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
+        [](const std::string& v, const Source&, Scene& scene) {
+          auto list = parse_double_list(v);
+          if (!list) return Verdict::malformed;
+          for (std::size_t i = 0; i < list->size(); ++i)
+            if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1]))
+              return Verdict::out_of_range;
+          scene.output.frame_times = std::move(*list);
+          return Verdict::ok;
+        }));
+    k.back().type_word = "a list of numbers";
+    k.push_back(field("output.vtu", &Scene::output, &OP::vtu, "",
+                      "write VTU frames + a PVD collection",
+                      "true/false (also yes/no, on/off, 1/0)", [](const bool&) { return true; }));
+    k.push_back(field("output.energy_interval", &Scene::output, &OP::energy_interval, "s",
+                      "energies.csv row every this much simulated time", "> 0", positive));
+    return k;
+  }();
+  return keys;
+}
+
+/// The sections that have keys, in table order.
+const std::vector<std::string>& known_sections() {
+  static const std::vector<std::string> sections = [] {
+    std::vector<std::string> s;
+    for (const Key& k : scene_keys())
+      if (s.empty() || s.back() != k.section()) s.push_back(k.section());
+    return s;
+  }();
+  return sections;
+}
+
+bool is_known_section(const std::string& section) {
+  const auto& s = known_sections();
+  return std::find(s.begin(), s.end(), section) != s.end();
+}
+
+/// Sections that later issues will fill; until one has keys in the table, it is rejected.
+const std::set<std::string>& reserved_sections() {
+  static const std::set<std::string> s = {"fracture", "damage", "render"};
+  return s;
+}
+
+const Key* find_key(const std::string& name) {
+  for (const Key& k : scene_keys())
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+const po::options_description& description() {
+  static const po::options_description desc = [] {
+    po::options_description d("Scene keys");
+    auto add = d.add_options();
+    for (const Key& k : scene_keys()) k.declare(add, k);
+    return d;
+  }();
+  return desc;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+[[noreturn]] void unknown_key(const Source& src, const std::string& name) {
+  std::string msg = error_message(src.label, ": unknown key '", name, "'");
+  const auto dot = name.find('.');
+  const std::string section = dot == std::string::npos ? std::string() : name.substr(0, dot);
+  if (dot == std::string::npos) {
+    msg += " (keys belong in a [section] or are written section.key)";
+  } else if (!is_known_section(section) && reserved_sections().count(section)) {
+    msg += " (section [" + section + "] is not yet supported)";
+  } else if (!is_known_section(section)) {
+    msg += " (no section [" + section + "]; sections are";
+    for (const auto& s : known_sections()) msg += " [" + s + "]";
+    msg += ")";
+  } else {
+    // Only a trivial suggestion: same section, one typo away or differing in case.
+    const std::string key = name.substr(dot + 1);
+    for (const Key& k : scene_keys()) {
+      if (k.section() != section) continue;
+      const std::string candidate = k.name.substr(dot + 1);
+      if (lower(candidate) == lower(key) || edit_distance(candidate, key) <= 1) {
+        msg += " (did you mean '" + k.name + "'?)";
+        break;
+      }
+    }
+  }
+  throw Error(msg);
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+/// Boost's config parser reports a bad line without its number; find it ourselves first.
+void check_syntax(std::istream& in, const Source& src) {
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const auto hash = line.find('#');
+    const std::string s = trim(hash == std::string::npos ? line : line.substr(0, hash));
+    if (s.empty()) continue;
+    const bool section = s.front() == '[' && s.back() == ']';
+    BRITTLE_CHECK(section || s.find('=') != std::string::npos, src.label, ", line ", number, ": '",
+                  s, "' is neither 'key = value' nor '[section]'");
+    BRITTLE_CHECK(section || !trim(s.substr(0, s.find('='))).empty(), src.label, ", line ", number,
+                  ": '", s, "' has no key before '='");
+  }
+}
+
+/// Which source last set each key, for messages about keys that constrain each other.
+struct Origins {
+  std::map<std::string, std::pair<std::size_t, std::string>> by_key;  // key -> (order, label)
+  /// The label of whichever of the keys was set last ("scene" if all are defaults).
+  std::string latest(std::initializer_list<std::string> keys) const {
+    std::optional<std::pair<std::size_t, std::string>> best;
+    for (const auto& key : keys) {
+      auto it = by_key.find(key);
+      if (it != by_key.end() && (!best || it->second.first > best->first)) best = it->second;
+    }
+    return best ? best->second : "scene";
+  }
+};
+
+/// Stores one source's options into its own variables_map (so later sources can override
+/// earlier ones, which a shared map would not allow) and applies them onto the scene.
+void apply_options(const std::vector<po::option>& options, const Source& src, std::size_t order,
+                   Scene& scene, Origins& origins) {
+  const po::options_description& desc = description();
+  po::variables_map vm;
+  std::map<std::string, std::string> raw;
+  for (const po::option& opt : options) {
+    const std::string& name = opt.string_key;
+    if (opt.unregistered || !find_key(name)) unknown_key(src, name);
+    BRITTLE_CHECK(!raw.count(name), src.label, ": ", name, " is given more than once");
+    const std::string value = opt.value.empty() ? std::string() : opt.value.front();
+    raw[name] = value;
+    const Key& key = *find_key(name);
+    const std::string not_a = error_message(src.label, ": ", name, " = '", value, "' is not ",
+                                            key.type_word, " (expected ", key.expected(), ")");
+    BRITTLE_CHECK(key.allow_empty || !value.empty(), not_a);
+    // One option per store() call so that a conversion error is pinned to its key.
+    po::parsed_options one(&desc);
+    one.options.push_back(opt);
+    try {
+      po::store(one, vm);
+    } catch (const po::error&) {
+      throw Error(not_a);
+    }
+  }
+  // Apply in table order; within one source at most one loading key may appear.
+  BRITTLE_CHECK(!(raw.count("loading.sigma") && raw.count("loading.sigma_over_sigmac")), src.label,
+                ": loading.sigma_over_sigmac and loading.sigma are both given (expected exactly "
+                "one)");
+  for (const Key& key : scene_keys()) {
+    auto it = raw.find(key.name);
+    if (it == raw.end()) continue;
+    switch (key.apply(vm[key.name], src, scene)) {
+      case Verdict::ok:
+        break;
+      case Verdict::malformed:
+        throw Error(error_message(src.label, ": ", key.name, " = '", it->second, "' is not ",
+                                  key.type_word, " (expected ", key.expected(), ")"));
+      case Verdict::out_of_range:
+        throw Error(error_message(src.label, ": ", key.name, " = ", it->second,
+                                  " is out of range (expected ", key.expected(), ")"));
+    }
+    origins.by_key[key.name] = {order, src.label};
+    if (key.name == "loading.sigma") origins.by_key.erase("loading.sigma_over_sigmac");
+    if (key.name == "loading.sigma_over_sigmac") origins.by_key.erase("loading.sigma");
+  }
+}
+
+/// Checks between keys, after every source has been applied.
+void check_scene(const Scene& s, const Origins& o, const std::vector<std::string>& files) {
+  const GeometryParams& g = s.geometry;
+  BRITTLE_CHECK(g.notch_depth < g.L, o.latest({"geometry.notch_depth", "geometry.L"}),
+                ": geometry.notch_depth = ", format_double(g.notch_depth),
+                " is out of range (expected 0 <= notch_depth < geometry.L = ", format_double(g.L),
+                ")");
+  BRITTLE_CHECK(g.notch_base < g.H, o.latest({"geometry.notch_base", "geometry.H"}),
+                ": geometry.notch_base = ", format_double(g.notch_base),
+                " is out of range (expected 0 <= notch_base < geometry.H = ", format_double(g.H),
+                ")");
+
+  const LoadingParams& l = s.loading;
+  if (std::isnan(l.sigma) && std::isnan(l.sigma_over_sigmac)) {
+    std::string where = "scene";
+    if (!files.empty()) {
+      where = files.size() == 1 ? "scene file" : "scene files";
+      for (std::size_t i = 0; i < files.size(); ++i) where += (i ? ", '" : " '") + files[i] + "'";
+    }
+    throw Error(where +
+                ": no load given (expected loading.sigma_over_sigmac or loading.sigma in "
+                "[loading])");
+  }
+  // The uniaxial pre-stress (SPEC 3) needs J = 1/(1 - sigma/(3K)) > 0.
+  const double three_K = s.material.E / (1 - 2 * s.material.nu);
+  const double sigma = l.stress(s.material);
+  const bool by_ratio = std::isnan(l.sigma);
+  BRITTLE_CHECK(sigma < three_K,
+                o.latest({by_ratio ? "loading.sigma_over_sigmac" : "loading.sigma", "material.E",
+                          "material.nu", "material.sigma_c"}),
+                ": load sigma = ", format_double(sigma),
+                " Pa is out of range (expected < 3K = E/(1-2nu) = ", format_double(three_K),
+                " Pa, else the uniaxial pre-stress has no solution)");
+
+  if (!s.mesh.file.empty()) {
+    const std::string who = o.latest({"mesh.file"});
+    const fs::path p(s.mesh.file);
+    const std::string ext = lower(p.extension().string());
+    BRITTLE_CHECK(ext == ".msh" || ext == ".vtu", who, ": mesh.file = '", s.mesh.file,
+                  "' is not a .msh or .vtu file");
+    std::error_code ec;
+    BRITTLE_CHECK(fs::is_regular_file(p, ec) && std::ifstream(p).good(), who, ": mesh file '",
+                  s.mesh.file, "' (mesh.file) cannot be opened");
+  }
+}
+
+}  // namespace
+
+Scene load_scene(const std::vector<std::string>& files, const std::vector<std::string>& overrides) {
+  Scene scene;
+  Origins origins;
+  std::size_t order = 0;
+
+  for (const std::string& file : files) {
+    const Source src{"scene file '" + file + "'", fs::path(file).parent_path()};
+    std::error_code ec;
+    BRITTLE_CHECK(!fs::is_directory(file, ec), src.label, ": cannot be opened (it is a directory)");
+    std::ifstream in(file);
+    BRITTLE_CHECK(in.good(), src.label, ": cannot be opened");
+    check_syntax(in, src);
+    in.clear();
+    in.seekg(0);
+    std::vector<po::option> options;
+    try {
+      options = po::parse_config_file(in, description(), /*allow_unregistered=*/true).options;
+    } catch (const po::error& e) {
+      throw Error(error_message(src.label, ": ", e.what()));
+    }
+    apply_options(options, src, order++, scene, origins);
+    scene.sources.push_back(file);
+  }
+
+  for (const std::string& text : overrides) {
+    const Source src{"--set", {}};  // relative mesh.file: relative to the working directory
+    const auto eq = text.find('=');
+    const std::string name = eq == std::string::npos ? std::string() : trim(text.substr(0, eq));
+    BRITTLE_CHECK(!name.empty(), "--set '", text, "': expected section.key=value");
+    po::option opt(name, {trim(text.substr(eq + 1))});
+    opt.original_tokens = {text};
+    opt.unregistered = find_key(name) == nullptr;
+    apply_options({opt}, src, order++, scene, origins);
+    scene.sources.push_back("--set " + text);
+  }
+
+  check_scene(scene, origins, files);
+  return scene;
+}
+
+void print_scene_keys(std::ostream& out) {
+  std::size_t name_w = 0, default_w = 0, unit_w = 0;
+  for (const Key& k : scene_keys()) {
+    name_w = std::max(name_w, k.name.size());
+    default_w = std::max(default_w, k.default_text.size());
+    unit_w = std::max(unit_w, k.unit.size() + 2);
+  }
+  auto pad = [](const std::string& s, std::size_t w) {
+    return s + std::string(w > s.size() ? w - s.size() : 0, ' ');
+  };
+  // Meaning and range word-wrapped into the last column; the range is never broken.
+  const std::size_t indent = 2 + name_w + 3 + default_w + 2 + unit_w + 2;
+  const std::size_t width = std::max<std::size_t>(40, 104 > indent ? 104 - indent : 0);
+  auto wrap = [&](const Key& k) {
+    std::vector<std::string> chunks;
+    std::istringstream words(k.meaning);
+    for (std::string word; words >> word;) chunks.push_back(word);
+    for (std::size_t b = 0, e = 0; b < k.range.size(); b = e + 2) {  // clauses split at "; "
+      e = std::min(k.range.find("; ", b), k.range.size());
+      chunks.back() += ";";
+      chunks.push_back(k.range.substr(b, e - b));
+    }
+    std::string result, line;
+    for (const std::string& chunk : chunks) {
+      if (!line.empty() && line.size() + 1 + chunk.size() > width) {
+        result += line + "\n" + std::string(indent, ' ');
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + chunk;
+    }
+    return result + line;
+  };
+  out << "Later files and --set override earlier ones; SI units; '#' starts a comment.\n";
+  std::string section;
+  for (const Key& k : scene_keys()) {
+    if (k.section() != section) {
+      section = k.section();
+      out << "\n[" << section << "]\n";
+    }
+    out << "  " << pad(k.name, name_w) << " = " << pad(k.default_text, default_w) << "  "
+        << pad(k.unit.empty() ? "" : "[" + k.unit + "]", unit_w) << "  " << wrap(k) << '\n';
+  }
+  std::string reserved;
+  for (const std::string& r : reserved_sections())
+    if (!is_known_section(r)) reserved += (reserved.empty() ? "[" : ", [") + r + "]";
+  if (!reserved.empty()) out << "\nReserved sections, not yet supported: " << reserved << ".\n";
+}
+
+}  // namespace brittle

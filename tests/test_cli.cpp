@@ -1,1 +1,682 @@
+// Scene files and the command line: load_scene (defaults, override order, --set, lists, every
+// error message naming its file and key) and the `brittle` executable's one-line errors.
 #include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "error.hpp"
+#include "scene_options.hpp"
+
+namespace fs = std::filesystem;
+using brittle::load_scene;
+using brittle::Scene;
+
+namespace {
+
+/// A fresh directory under the system temp dir, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (fs::temp_directory_path() / "brittle_test_cli_XXXXXX").string();
+    const char* made = mkdtemp(pattern.data());
+    if (!made) throw std::runtime_error("mkdtemp failed");
+    path_ = made;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  /// Writes `text` to `name` (relative to the dir, subdirectories created) and returns its path.
+  std::string write(const std::string& name, const std::string& text) const {
+    const fs::path p = path_ / name;
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+/// The minimal valid scene: only the load is required.
+const char* kLoad = "[loading]\nsigma_over_sigmac = 0.6\n";
+
+/// The message of the brittle::Error that `f` throws ("" and a test failure if none).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const brittle::Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw a non-brittle exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "no brittle::Error thrown";
+  return "";
+}
+
+/// Loads one scene file with `text` and returns the error message.
+std::string file_error(const TempDir& dir, const std::string& text,
+                       const std::vector<std::string>& sets = {}) {
+  const std::string file = dir.write("bad.ini", text);
+  return error_of([&] { load_scene({file}, sets); });
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+/// Checks a message is one line and contains every part.
+void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+  for (const auto& p : parts) EXPECT_TRUE(contains(msg, p)) << "'" << p << "' not in: " << msg;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs the brittle executable with `args`, stdout and stderr captured to files in `dir`.
+Result run_brittle(const TempDir& dir, const std::vector<std::string>& args) {
+  std::string cmd = quote(BRITTLE_EXE);
+  // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
+  for (const auto& a : args) cmd.append(" ").append(quote(a));
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  cmd.append(" >").append(quote(out.string()));
+  cmd.append(" 2>").append(quote(err.string())).append(" </dev/null");
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// load_scene: values
+
+TEST(LoadScene, DefaultsAreThePapersValues) {
+  TempDir dir;
+  const std::string file = dir.write("load.ini", kLoad);
+  const Scene s = load_scene({file}, {});
+  const Scene def;
+  EXPECT_EQ(s.material.rho0, 1180.0);
+  EXPECT_EQ(s.material.E, 3.09e9);
+  EXPECT_EQ(s.material.nu, 0.35);
+  EXPECT_EQ(s.material.sigma_c, 75e6);
+  EXPECT_EQ(s.material.gamma, 150.0);
+  EXPECT_EQ(s.material.zeta1, def.material.zeta1);
+  EXPECT_EQ(s.material.zeta2, def.material.zeta2);
+  EXPECT_EQ(s.geometry.L, def.geometry.L);
+  EXPECT_EQ(s.geometry.H, def.geometry.H);
+  EXPECT_EQ(s.geometry.T, def.geometry.T);
+  EXPECT_EQ(s.geometry.notch_depth, def.geometry.notch_depth);
+  EXPECT_EQ(s.geometry.notch_base, def.geometry.notch_base);
+  EXPECT_EQ(s.mesh.file, "");
+  EXPECT_EQ(s.mesh.size, def.mesh.size);
+  EXPECT_EQ(s.mesh.band, def.mesh.band);
+  EXPECT_EQ(s.mesh.band_size, def.mesh.band_size);
+  EXPECT_EQ(s.mesh.layers, def.mesh.layers);
+  EXPECT_EQ(s.loading.sigma_over_sigmac, 0.6);
+  EXPECT_TRUE(std::isnan(s.loading.sigma));
+  EXPECT_DOUBLE_EQ(s.loading.stress(s.material), 0.6 * 75e6);
+  EXPECT_EQ(s.run.end_time, def.run.end_time);
+  EXPECT_EQ(s.run.cfl, def.run.cfl);
+  EXPECT_EQ(s.run.threads, def.run.threads);
+  EXPECT_EQ(s.output.directory, def.output.directory);
+  EXPECT_EQ(s.output.frame_interval, def.output.frame_interval);
+  EXPECT_TRUE(s.output.frame_times.empty());
+  EXPECT_EQ(s.output.vtu, def.output.vtu);
+  EXPECT_EQ(s.output.energy_interval, def.output.energy_interval);
+  EXPECT_EQ(s.sources, std::vector<std::string>{file});
+}
+
+TEST(LoadScene, EveryTypeAndSection) {
+  TempDir dir;
+  const std::string file = dir.write("all.ini", R"(# a comment line
+[material]
+rho0 = 1200
+E = 3e9          # trailing comment
+nu = 0.3
+sigma_c = 7.0e7
+gamma = 100
+zeta1 = 0
+zeta2 = 0.2
+[geometry]
+L = 0.02
+H = 0.01
+T = 1e-3
+notch_depth = 0
+notch_base = 0
+[mesh]
+size = 1e-3
+band = 2e-3
+band_size = 2.5e-4
+layers = 3
+[loading]
+sigma = 30e6
+[run]
+end_time = 1e-5
+cfl = 1
+threads = 2
+[output]
+directory = results/cm
+frame_interval = 0
+frame_times = 1e-6, 15e-6 30e-6
+vtu = false
+energy_interval = 2e-7
+)");
+  const Scene s = load_scene({file}, {});
+  EXPECT_EQ(s.material.rho0, 1200.0);
+  EXPECT_EQ(s.material.E, 3e9);
+  EXPECT_EQ(s.material.nu, 0.3);
+  EXPECT_EQ(s.material.sigma_c, 7e7);
+  EXPECT_EQ(s.material.gamma, 100.0);
+  EXPECT_EQ(s.material.zeta1, 0.0);
+  EXPECT_EQ(s.material.zeta2, 0.2);
+  EXPECT_EQ(s.geometry.L, 0.02);
+  EXPECT_EQ(s.geometry.H, 0.01);
+  EXPECT_EQ(s.geometry.T, 1e-3);
+  EXPECT_EQ(s.geometry.notch_depth, 0.0);
+  EXPECT_EQ(s.geometry.notch_base, 0.0);
+  EXPECT_EQ(s.mesh.size, 1e-3);
+  EXPECT_EQ(s.mesh.band, 2e-3);
+  EXPECT_EQ(s.mesh.band_size, 2.5e-4);
+  EXPECT_EQ(s.mesh.layers, 3);
+  EXPECT_EQ(s.loading.sigma, 30e6);
+  EXPECT_TRUE(std::isnan(s.loading.sigma_over_sigmac));
+  EXPECT_EQ(s.run.end_time, 1e-5);
+  EXPECT_EQ(s.run.cfl, 1.0);
+  EXPECT_EQ(s.run.threads, 2);
+  EXPECT_EQ(s.output.directory, "results/cm");
+  EXPECT_EQ(s.output.frame_interval, 0.0);
+  EXPECT_EQ(s.output.frame_times, (std::vector<double>{1e-6, 15e-6, 30e-6}));
+  EXPECT_FALSE(s.output.vtu);
+  EXPECT_EQ(s.output.energy_interval, 2e-7);
+}
+
+TEST(LoadScene, LaterFilesOverrideEarlierOnes) {
+  TempDir dir;
+  const std::string a =
+      dir.write("a.ini", "[material]\nE = 1e9\nnu = 0.3\n[loading]\nsigma = 1e6\n");
+  const std::string b = dir.write("b.ini", "[material]\nE = 2e9\n[mesh]\nlayers = 2\n");
+  const std::string c = dir.write("c.ini", "[mesh]\nlayers = 4\n");
+  const Scene s = load_scene({a, b, c}, {});
+  EXPECT_EQ(s.material.E, 2e9);
+  EXPECT_EQ(s.material.nu, 0.3);  // only a.ini sets it
+  EXPECT_EQ(s.mesh.layers, 4);
+  EXPECT_EQ(s.loading.sigma, 1e6);
+  EXPECT_EQ(s.sources, (std::vector<std::string>{a, b, c}));
+
+  const Scene r = load_scene({c, b, a}, {});
+  EXPECT_EQ(r.material.E, 1e9);
+  EXPECT_EQ(r.mesh.layers, 2);
+}
+
+TEST(LoadScene, SetOverridesComeLastInOrder) {
+  TempDir dir;
+  const std::string a = dir.write("a.ini", "[material]\nE = 1e9\n[loading]\nsigma = 1e6\n");
+  const Scene s = load_scene({a}, {"material.E=2e9", "run.threads = 3", "material.E=2.5e9",
+                                   "output.vtu=no", "output.frame_times=1e-6 2e-6"});
+  EXPECT_EQ(s.material.E, 2.5e9);
+  EXPECT_EQ(s.run.threads, 3);
+  EXPECT_FALSE(s.output.vtu);
+  EXPECT_EQ(s.output.frame_times, (std::vector<double>{1e-6, 2e-6}));
+  ASSERT_EQ(s.sources.size(), 6u);
+  EXPECT_EQ(s.sources[0], a);
+  EXPECT_EQ(s.sources[1], "--set material.E=2e9");
+  EXPECT_EQ(s.sources[3], "--set material.E=2.5e9");
+
+  // --set alone (no file) is a complete scene too.
+  const Scene t = load_scene({}, {"loading.sigma_over_sigmac=0.9"});
+  EXPECT_EQ(t.loading.sigma_over_sigmac, 0.9);
+}
+
+TEST(LoadScene, LaterLoadKindClearsTheEarlierOne) {
+  TempDir dir;
+  const std::string ratio = dir.write("ratio.ini", "[loading]\nsigma_over_sigmac = 0.6\n");
+  const std::string pa = dir.write("pa.ini", "[loading]\nsigma = 50e6\n");
+  Scene s = load_scene({ratio, pa}, {});
+  EXPECT_EQ(s.loading.sigma, 50e6);
+  EXPECT_TRUE(std::isnan(s.loading.sigma_over_sigmac));
+  EXPECT_EQ(s.loading.stress(s.material), 50e6);
+
+  s = load_scene({pa, ratio}, {});
+  EXPECT_EQ(s.loading.sigma_over_sigmac, 0.6);
+  EXPECT_TRUE(std::isnan(s.loading.sigma));
+
+  s = load_scene({pa}, {"loading.sigma_over_sigmac=0.9"});
+  EXPECT_EQ(s.loading.sigma_over_sigmac, 0.9);
+  EXPECT_TRUE(std::isnan(s.loading.sigma));
+}
+
+TEST(LoadScene, FrameTimesList) {
+  TempDir dir;
+  auto times = [&](const std::string& value) {
+    const std::string f =
+        dir.write("ft.ini", std::string(kLoad) + "[output]\nframe_times = " + value + "\n");
+    return load_scene({f}, {}).output.frame_times;
+  };
+  EXPECT_EQ(times("1e-6"), std::vector<double>{1e-6});
+  EXPECT_EQ(times("0, 1e-6,15e-6   30e-6"), (std::vector<double>{0, 1e-6, 15e-6, 30e-6}));
+  EXPECT_EQ(times("1e-6 , 2e-6 ,"), (std::vector<double>{1e-6, 2e-6}));
+  EXPECT_TRUE(times("").empty());
+
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nframe_times = 1e-6, abc\n"),
+                 {"scene file '",
+                  "bad.ini': output.frame_times = '1e-6, abc' is not a list of "
+                  "numbers (expected"});
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nframe_times = 2e-6, 1e-6\n"),
+                 {"bad.ini", "output.frame_times = 2e-6, 1e-6 is out of range", "ascending"});
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nframe_times = 1e-6 1e-6\n"),
+                 {"bad.ini", "output.frame_times", "out of range"});
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nframe_times = -1e-6 1e-6\n"),
+                 {"bad.ini", "output.frame_times", "out of range", ">= 0"});
+}
+
+TEST(LoadScene, MeshFileIsRelativeToTheSceneFile) {
+  TempDir dir;
+  dir.write("meshes/plate.vtu", "<VTKFile/>\n");  // only its existence is checked here
+  const std::string scene =
+      dir.write("scenes/rm.ini", std::string(kLoad) + "[mesh]\nfile = ../meshes/plate.vtu\n");
+  const Scene s = load_scene({scene}, {});
+  EXPECT_TRUE(fs::equivalent(s.mesh.file, dir / "meshes/plate.vtu")) << s.mesh.file;
+
+  // An absolute path stays as it is; --set paths are relative to the working directory.
+  const std::string abs = (dir / "meshes/plate.vtu").string();
+  EXPECT_EQ(load_scene({scene}, {"mesh.file=" + abs}).mesh.file, abs);
+  // A later empty value goes back to generating the mesh.
+  EXPECT_EQ(load_scene({scene}, {"mesh.file="}).mesh.file, "");
+
+  // The relative path's own directory: a file next to the scene, given by name only.
+  dir.write("scenes/local.msh", "$MeshFormat\n");
+  const std::string scene2 =
+      dir.write("scenes/local.ini", std::string(kLoad) + "[mesh]\nfile = local.msh\n");
+  EXPECT_TRUE(fs::equivalent(load_scene({scene2}, {}).mesh.file, dir / "scenes/local.msh"));
+}
+
+TEST(LoadScene, OutputDirectoryIsKeptAsWritten) {
+  TempDir dir;
+  const std::string scene =
+      dir.write("sub/out.ini", std::string(kLoad) + "[output]\ndirectory = runs/a\n");
+  EXPECT_EQ(load_scene({scene}, {}).output.directory, "runs/a");  // relative to the cwd
+}
+
+// ---------------------------------------------------------------------------------------------
+// load_scene: errors name the file (or --set) and the key, on one line
+
+TEST(LoadSceneErrors, UnreadableFile) {
+  TempDir dir;
+  const std::string missing = (dir / "nope.ini").string();
+  EXPECT_EQ(error_of([&] { load_scene({missing}, {}); }),
+            "scene file '" + missing + "': cannot be opened");
+  expect_message(error_of([&] { load_scene({dir.path().string()}, {}); }),
+                 {"scene file '" + dir.path().string() + "': cannot be opened"});
+}
+
+TEST(LoadSceneErrors, UnknownKeys) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  EXPECT_EQ(file_error(dir, std::string(kLoad) + "[material]\nEe = 3e9\n"),
+            "scene file '" + f + "': unknown key 'material.Ee' (did you mean 'material.E'?)");
+  EXPECT_EQ(
+      file_error(dir, std::string(kLoad) + "[material]\nSIGMA_C = 3e9\n"),
+      "scene file '" + f + "': unknown key 'material.SIGMA_C' (did you mean 'material.sigma_c'?)");
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\ndensity = 1000\n"),
+                 {f, "unknown key 'material.density'"});
+  EXPECT_FALSE(contains(file_error(dir, std::string(kLoad) + "[material]\ndensity = 1000\n"),
+                        "did you mean"));
+  expect_message(file_error(dir, std::string(kLoad) + "[materials]\nE = 3e9\n"),
+                 {f, "unknown key 'materials.E'", "no section [materials]"});
+  expect_message(file_error(dir, "E = 3e9\n" + std::string(kLoad)), {f, "unknown key 'E'"});
+  // Reserved sections: rejected until their issue adds keys (then only the key is unknown).
+  std::ostringstream help;
+  brittle::print_scene_keys(help);
+  for (const std::string section : {"fracture", "damage", "render"}) {
+    const std::string msg =
+        file_error(dir, std::string(kLoad) + "[" + section + "]\nno_such_key = x\n");
+    expect_message(msg, {f, "unknown key '" + section + ".no_such_key'"});
+    if (!contains(help.str(), "\n[" + section + "]\n"))
+      expect_message(msg, {"section [" + section + "] is not yet supported"});
+  }
+  expect_message(error_of([&] {
+                   load_scene({}, {"loading.sigma=1e6", "material.Ee=1"});
+                 }),
+                 {"--set: unknown key 'material.Ee'"});
+}
+
+TEST(LoadSceneErrors, MalformedValues) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  EXPECT_EQ(file_error(dir, std::string(kLoad) + "[material]\nE = abc\n"),
+            "scene file '" + f +
+                "': material.E = 'abc' is not a number (expected Young's modulus in Pa, > 0)");
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\nE = 3e9x\n"),
+                 {f, "material.E = '3e9x' is not a number"});
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\nE =\n"),
+                 {f, "material.E = '' is not a number"});
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\nE = nan\n"),
+                 {f, "material.E = 'nan' is not a number"});
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\ngamma = inf\n"),
+                 {f, "material.gamma = 'inf' is not a number"});
+  expect_message(file_error(dir, std::string(kLoad) + "[mesh]\nlayers = 1.5\n"),
+                 {f, "mesh.layers = '1.5' is not an integer", "element layers", ">= 1"});
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nvtu = maybe\n"),
+                 {f, "output.vtu = 'maybe' is not true or false"});
+  expect_message(file_error(dir, std::string(kLoad) + "[output]\nvtu =\n"),
+                 {f, "output.vtu = '' is not true or false"});
+  expect_message(error_of([&] {
+                   load_scene({}, {"loading.sigma=1e6", "run.cfl=half"});
+                 }),
+                 {"--set: run.cfl = 'half' is not a number", "fraction of the stable time step"});
+  expect_message(error_of([&] {
+                   load_scene({}, {"loading.sigma=1e6", "material.E"});
+                 }),
+                 {"--set 'material.E': expected section.key=value"});
+  expect_message(error_of([&] { load_scene({}, {"=1"}); }), {"--set '=1'", "section.key=value"});
+}
+
+TEST(LoadSceneErrors, SyntaxAndDuplicates) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  EXPECT_EQ(file_error(dir, std::string(kLoad) + "\n[material]\nE 3e9\n"),
+            "scene file '" + f + "', line 5: 'E 3e9' is neither 'key = value' nor '[section]'");
+  expect_message(file_error(dir, std::string(kLoad) + "[material]\nE = 1e9\nE = 2e9\n"),
+                 {f, "material.E is given more than once"});
+}
+
+TEST(LoadSceneErrors, OutOfRange) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  struct Case {
+    std::string section, key, value, expected;
+  };
+  const std::vector<Case> cases = {
+      {"material", "rho0", "-1180", "> 0"},
+      {"material", "rho0", "0", "> 0"},
+      {"material", "E", "-3e9", "> 0"},
+      {"material", "nu", "0.5", "-1 < nu < 0.5"},
+      {"material", "nu", "0.7", "-1 < nu < 0.5"},
+      {"material", "nu", "-1", "-1 < nu < 0.5"},
+      {"material", "sigma_c", "0", "> 0"},
+      {"material", "gamma", "-150", "> 0"},
+      {"material", "zeta1", "-0.1", ">= 0"},
+      {"material", "zeta2", "-0.1", ">= 0"},
+      {"geometry", "L", "0", "> 0"},
+      {"geometry", "H", "-1", "> 0"},
+      {"geometry", "T", "0", "> 0"},
+      {"geometry", "notch_depth", "-1e-3", "0 <= a"},
+      {"geometry", "notch_base", "-1e-3", "0 <= b"},
+      {"mesh", "size", "0", "> 0"},
+      {"mesh", "band", "-1", ">= 0"},
+      {"mesh", "band_size", "-1", ">= 0"},
+      {"mesh", "layers", "0", ">= 1"},
+      {"run", "end_time", "0", "> 0"},
+      {"run", "cfl", "0", "0 < cfl <= 1"},
+      {"run", "cfl", "1.01", "0 < cfl <= 1"},
+      {"run", "threads", "-1", ">= 0"},
+      {"output", "frame_interval", "-1e-6", ">= 0"},
+      {"output", "energy_interval", "0", "> 0"},
+      {"output", "directory", "", "not empty"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.section + "." + c.key + " = " + c.value);
+    const std::string msg =
+        file_error(dir, std::string(kLoad) + "[" + c.section + "]\n" + c.key + " = " + c.value);
+    expect_message(msg, {"scene file '" + f + "': " + c.section + "." + c.key + " = " + c.value +
+                             " is out of range (expected ",
+                         c.expected});
+  }
+  for (const std::string v : {"0", "-0.5", "3"}) {
+    expect_message(file_error(dir, "[loading]\nsigma_over_sigmac = " + v + "\n"),
+                   {f, "loading.sigma_over_sigmac = " + v + " is out of range", "0 < s < 3"});
+  }
+  expect_message(file_error(dir, "[loading]\nsigma = -1e6\n"),
+                 {f, "loading.sigma = -1e6 is out of range", "> 0"});
+  expect_message(error_of([&] {
+                   load_scene({}, {"loading.sigma=1e6", "material.nu=0.5"});
+                 }),
+                 {"--set: material.nu = 0.5 is out of range (expected Poisson's ratio, "
+                  "-1 < nu < 0.5)"});
+}
+
+TEST(LoadSceneErrors, KeysThatConstrainEachOther) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  expect_message(file_error(dir, std::string(kLoad) + "[geometry]\nnotch_depth = 0.032\n"),
+                 {f, "geometry.notch_depth = 0.032 is out of range", "< geometry.L = 0.032"});
+  expect_message(file_error(dir, std::string(kLoad) + "[geometry]\nH = 1e-4\n"),
+                 {f, "geometry.notch_base", "< geometry.H = 0.0001"});
+  // The file that made the pair inconsistent is the one named.
+  const std::string ok = dir.write("ok.ini", std::string(kLoad) + "[geometry]\nL = 0.01\n");
+  expect_message(error_of([&] { load_scene({ok}, {"geometry.notch_depth=0.02"}); }),
+                 {"--set: geometry.notch_depth = 0.02", "< geometry.L = 0.01"});
+
+  // A load the uniaxial pre-stress cannot carry (sigma >= 3K).
+  expect_message(file_error(dir, "[loading]\nsigma = 1e11\n"),
+                 {f, "sigma = 1e+11 Pa is out of range", "3K"});
+}
+
+TEST(LoadSceneErrors, ExactlyOneLoad) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  EXPECT_EQ(file_error(dir, "[material]\nE = 3e9\n"),
+            "scene file '" + f +
+                "': no load given (expected loading.sigma_over_sigmac or loading.sigma in "
+                "[loading])");
+  expect_message(file_error(dir, "[loading]\nsigma_over_sigmac = 0.6\nsigma = 1e6\n"),
+                 {f, "loading.sigma_over_sigmac and loading.sigma are both given"});
+  const std::string a = dir.write("a.ini", "[material]\nE = 3e9\n");
+  const std::string b = dir.write("b.ini", "[run]\ncfl = 0.4\n");
+  expect_message(error_of([&] {
+                   load_scene({a, b}, {});
+                 }),
+                 {"scene files '" + a + "', '" + b + "'",
+                  "loading.sigma_over_sigmac or "
+                  "loading.sigma"});
+}
+
+TEST(LoadSceneErrors, MissingMeshFileNamesTheMeshFile) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  const std::string msg =
+      file_error(dir, std::string(kLoad) + "[mesh]\nfile = does_not_exist.msh\n");
+  expect_message(msg, {"scene file '" + f + "'", "mesh.file", (dir / "does_not_exist.msh").string(),
+                       "cannot be opened"});
+  expect_message(file_error(dir, std::string(kLoad) + "[mesh]\nfile = plate.stl\n"),
+                 {f, "mesh.file = '", "plate.stl' is not a .msh or .vtu file"});
+}
+
+TEST(SceneKeys, HelpListsEveryKeyWithDefaultUnitAndMeaning) {
+  std::ostringstream out;
+  brittle::print_scene_keys(out);
+  const std::string help = out.str();
+  for (const std::string key : {"material.rho0",
+                                "material.E",
+                                "material.nu",
+                                "material.sigma_c",
+                                "material.gamma",
+                                "material.zeta1",
+                                "material.zeta2",
+                                "geometry.L",
+                                "geometry.H",
+                                "geometry.T",
+                                "geometry.notch_depth",
+                                "geometry.notch_base",
+                                "mesh.file",
+                                "mesh.size",
+                                "mesh.band",
+                                "mesh.band_size",
+                                "mesh.layers",
+                                "loading.sigma_over_sigmac",
+                                "loading.sigma",
+                                "run.end_time",
+                                "run.cfl",
+                                "run.threads",
+                                "output.directory",
+                                "output.frame_interval",
+                                "output.frame_times",
+                                "output.vtu",
+                                "output.energy_interval"})
+    EXPECT_TRUE(contains(help, key + " ")) << key;
+  for (const std::string section :
+       {"[material]", "[geometry]", "[mesh]", "[loading]", "[run]", "[output]"})
+    EXPECT_TRUE(contains(help, section)) << section;
+  EXPECT_TRUE(contains(help, "3.09e+09")) << help;
+  EXPECT_TRUE(contains(help, "[kg/m^3]")) << help;
+  EXPECT_TRUE(contains(help, "Young's modulus")) << help;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The executable: one line on stderr, non-zero exit, nothing claimed complete
+
+TEST(Executable, Version) {
+  TempDir dir;
+  const Result r = run_brittle(dir, {"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "brittle")) << r.out;
+}
+
+TEST(Executable, RunHelpListsEveryKey) {
+  TempDir dir;
+  const Result r = run_brittle(dir, {"run", "--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ostringstream keys;
+  brittle::print_scene_keys(keys);
+  EXPECT_TRUE(contains(r.out, keys.str())) << r.out;
+  EXPECT_TRUE(contains(r.out, "material.E ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "output.frame_times ")) << r.out;
+}
+
+namespace {
+
+/// Runs `brittle run <ini> --out <dir>/out` and checks: exit code non-zero, exactly one line
+/// "brittle: error: ..." on stderr containing every part, and no summary claiming a finished run.
+void expect_run_fails(const TempDir& dir, const std::string& ini, const std::string& ini_text,
+                      const std::vector<std::string>& parts) {
+  const std::string file = dir.write(ini, ini_text);
+  const fs::path out = dir / "out";
+  const Result r = run_brittle(dir, {"run", file, "--out", out.string()});
+  EXPECT_NE(r.exit_code, 0);
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not exactly one line: " << r.err;
+  EXPECT_EQ(r.err.rfind("brittle: error: ", 0), 0u) << r.err;
+  for (const auto& p : parts) EXPECT_TRUE(contains(r.err, p)) << "'" << p << "' not in " << r.err;
+  EXPECT_FALSE(fs::exists(out / "summary.json")) << "a failed run left a summary";
+  EXPECT_FALSE(fs::exists(out / "run.pvd")) << "a failed run left a frame collection";
+}
+
+}  // namespace
+
+TEST(Executable, UnknownKey) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[material]\nEe = 3e9\n",
+                   {"bad.ini", "material.Ee"});
+}
+
+TEST(Executable, MalformedNumber) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[material]\nE = 3.09 GPa\n",
+                   {"bad.ini", "material.E", "not a number"});
+}
+
+TEST(Executable, PoissonRatioTooLarge) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[material]\nnu = 0.5\n",
+                   {"bad.ini", "material.nu", "out of range"});
+}
+
+TEST(Executable, NegativeDensity) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[material]\nrho0 = -1180\n",
+                   {"bad.ini", "material.rho0", "out of range"});
+}
+
+TEST(Executable, MissingLoad) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", "[material]\nE = 3e9\n",
+                   {"bad.ini", "loading.sigma_over_sigmac or loading.sigma"});
+}
+
+TEST(Executable, BadSetOverride) {
+  TempDir dir;
+  const std::string file = dir.write("ok.ini", kLoad);
+  const Result r =
+      run_brittle(dir, {"run", file, "--set", "run.cfl=2", "--out", (dir / "out").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "--set: run.cfl = 2 is out of range")) << r.err;
+}
+
+TEST(Executable, MissingSceneFile) {
+  TempDir dir;
+  const std::string missing = (dir / "missing.ini").string();
+  const Result r = run_brittle(dir, {"run", missing, "--out", (dir / "out").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.err, "brittle: error: scene file '" + missing + "': cannot be opened\n");
+}
+
+TEST(Executable, MissingMeshFile) {
+  TempDir dir;
+  expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[mesh]\nfile = does_not_exist.msh\n",
+                   {"bad.ini", "mesh.file", "does_not_exist.msh"});
+}
+
+TEST(Executable, ZeroVolumeTetIsRejected) {
+  TempDir dir;
+  // Four coplanar points (z = 0): the one tet has zero volume.
+  fs::path mesh = fs::path(BRITTLE_TEST_DATA) / "degenerate_tet.vtu";
+  if (!fs::exists(mesh)) {
+    mesh = dir.write("degenerate_tet.vtu", R"(<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="1">
+      <Points>
+        <DataArray type="Float64" NumberOfComponents="3" format="ascii">
+          0 0 0  1e-3 0 0  0 1e-3 0  1e-3 1e-3 0
+        </DataArray>
+      </Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">4</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+)");
+  }
+  expect_run_fails(dir, "bad.ini",
+                   std::string(kLoad) + "[mesh]\nfile = " + fs::absolute(mesh).string() + "\n",
+                   {"degenerate_tet.vtu"});
+}
