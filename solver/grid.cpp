@@ -1,6 +1,8 @@
 // The live vtkUnstructuredGrid and the raw views the step loop works on.
 #include "grid.hpp"
 
+#include <algorithm>
+
 #include <vtkCellData.h>
 #include <vtkCellTypes.h>
 #include <vtkDoubleArray.h>
@@ -68,6 +70,7 @@ Grid::Grid(vtkUnstructuredGrid& reference_mesh) {
   add_array<vtkDoubleArray>(pd, field::displacement, 3, np);
   add_array<vtkDoubleArray>(pd, field::mass, 1, np);
   add_array<vtkUnsignedCharArray>(pd, field::fixed, 1, np);
+  add_array<vtkUnsignedCharArray>(pd, field::crack, 1, np);
   pd->SetActiveVectors(field::displacement);
 
   auto* cd = grid_->GetCellData();
@@ -94,11 +97,35 @@ void Grid::refresh() {
   u_ = doubles(pd, field::displacement);
   mass_ = doubles(pd, field::mass);
   fixed_ = vtkUnsignedCharArray::SafeDownCast(pd->GetAbstractArray(field::fixed))->GetPointer(0);
+  crack_ = vtkUnsignedCharArray::SafeDownCast(pd->GetAbstractArray(field::crack))->GetPointer(0);
   conn_ = grid_->GetCells()->GetConnectivityArray64()->GetPointer(0);
   auto* cd = grid_->GetCellData();
   damage_ = doubles(cd, field::damage);
   sigma1_ = doubles(cd, field::sigma1_over_sigmac);
   stress_ = doubles(cd, field::stress);
+}
+
+vtkIdType Grid::split_node(vtkIdType k, const std::vector<vtkIdType>& cells) {
+  const vtkIdType b = num_points_;
+  const double position[3] = {x_[3 * k], x_[3 * k + 1], x_[3 * k + 2]};
+  grid_->GetPoints()->InsertNextPoint(position);
+  auto* pd = grid_->GetPointData();
+  double tuple[9];
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i) {
+    vtkDataArray* a = pd->GetArray(i);
+    BRITTLE_ASSERT(a->GetNumberOfComponents() <= 9);
+    a->GetTuple(k, tuple);
+    a->InsertNextTuple(tuple);
+  }
+  refresh();
+  for (vtkIdType c : cells) {
+    vtkIdType* corner = std::find(conn_ + 4 * c, conn_ + 4 * c + 4, k);
+    BRITTLE_ASSERT(corner != conn_ + 4 * c + 4);
+    *corner = b;
+  }
+  crack_[k] = crack_[b] = 1;
+  grid_->GetCells()->Modified();
+  return b;
 }
 
 void Grid::update_displacement() {

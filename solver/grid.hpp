@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <vtkCellArray.h>
 #include <vtkSmartPointer.h>
@@ -17,6 +18,7 @@ inline constexpr const char* velocity = "velocity";                      // poin
 inline constexpr const char* displacement = "displacement";              // x - X, point, 3
 inline constexpr const char* mass = "mass";                              // lumped, point, 1
 inline constexpr const char* fixed = "fixed";                            // BC flag, point, 1
+inline constexpr const char* crack = "crack";  // 1 on nodes made or kept by a split, point, 1
 inline constexpr const char* damage = "damage";                          // Omega, cell, 1
 inline constexpr const char* sigma1_over_sigmac = "sigma1_over_sigmac";  // cell, 1
 inline constexpr const char* stress = "stress";  // T_el, cell, 6 (xx yy zz xy yz xz)
@@ -42,10 +44,16 @@ class Grid {
   double* u() const { return u_; }                 ///< displacements (filled by update_displacement)
   double* mass() const { return mass_; }
   std::uint8_t* fixed() const { return fixed_; }
+  std::uint8_t* crack() const { return crack_; }
   vtkIdType* cells() const { return conn_; }       ///< 4 point ids per tet, contiguous
   double* damage() const { return damage_; }
   double* sigma1_over_sigmac() const { return sigma1_; }
   double* stress() const { return stress_; }      ///< 6 per cell
+
+  /// Appends a copy of point k (position and every point-data tuple) and hands corner k of
+  /// the given cells over to it; both are flagged as crack nodes. Returns the new point's id.
+  /// The only place that changes topology; views are refreshed.
+  vtkIdType split_node(vtkIdType k, const std::vector<vtkIdType>& cells);
 
   /// displacement = x - X, before output.
   void update_displacement();
@@ -58,7 +66,7 @@ class Grid {
   vtkSmartPointer<vtkUnstructuredGrid> grid_;
   vtkIdType num_points_ = 0, num_cells_ = 0;
   double *x_ = nullptr, *X_ = nullptr, *v_ = nullptr, *u_ = nullptr, *mass_ = nullptr;
-  std::uint8_t* fixed_ = nullptr;
+  std::uint8_t *fixed_ = nullptr, *crack_ = nullptr;
   vtkIdType* conn_ = nullptr;
   double *damage_ = nullptr, *sigma1_ = nullptr, *stress_ = nullptr;
 };

@@ -14,14 +14,32 @@ namespace {
 
 using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
-Vec3 point(const double* a, vtkIdType i) { return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+inline Vec3 point(const double* a, vtkIdType i) {
+  return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+}
 
 /// Columns p1 - p0, p2 - p0, p3 - p0 of the four corners of tet e in array a.
-Mat3 edge_matrix(const double* a, const vtkIdType* n) {
+[[gnu::always_inline]] inline Mat3 edge_matrix(const double* a, const vtkIdType* n) {
   const Vec3 p0 = point(a, n[0]);
   Mat3 M;
   for (int k = 0; k < 3; ++k) M.col(k) = point(a, n[k + 1]) - p0;
   return M;
+}
+
+/// Inverse and determinant of a 3x3 matrix from one set of cofactors.
+[[gnu::always_inline]] inline Mat3 inverse_with_det(const Mat3& A, double& det) {
+  Mat3 C;  // transposed cofactors (adjugate)
+  C(0, 0) = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
+  C(0, 1) = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
+  C(0, 2) = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
+  C(1, 0) = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
+  C(1, 1) = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
+  C(1, 2) = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
+  C(2, 0) = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
+  C(2, 1) = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
+  C(2, 2) = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+  det = A(0, 0) * C(0, 0) + A(0, 1) * C(1, 0) + A(0, 2) * C(2, 0);
+  return C * (1.0 / det);
 }
 
 }  // namespace
@@ -32,6 +50,7 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
   ElementData d;
   d.Dm_inv.resize(9 * ne);
   d.V0.resize(ne);
+  d.inv_V0.resize(ne);
   d.eta_dil.resize(ne);
   d.eta_dev.resize(ne);
   for (vtkIdType e = 0; e < ne; ++e) {
@@ -41,6 +60,7 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
                   " (expected > 0)");
     Eigen::Map<RowMat3>(d.Dm_inv.data() + 9 * e) = Dm.inverse();
     d.V0[e] = V0;
+    d.inv_V0[e] = 1.0 / V0;
     const double h_e = std::cbrt(6.0 * std::sqrt(2.0) * V0);  // edge of the regular tet of volume V0
     d.eta_dil[e] = m.zeta1 * c.rho0 * c.c_p * h_e;
     d.eta_dev[e] = m.zeta2 * c.rho0 * c.c_s * h_e;
@@ -74,31 +94,38 @@ double stable_time_step(const Grid& grid, const ElasticConstants& c, const Mater
 }
 
 ForceAssembler::ForceAssembler(const Grid& grid, const ElasticConstants& c)
-    : K_(c.K), mu_(c.mu) {
+    : K_(c.K),
+      mu_(c.mu),
+      element_force_(12 * grid.num_cells(), 0.0),
+      viscous_power_(grid.num_cells(), 0.0),
+      volume_(grid.num_cells(), 0.0),
+      sigma1_bound_(grid.num_cells(), 0.0) {
   rebuild(grid);
 }
 
 void ForceAssembler::rebuild(const Grid& grid) {
   const vtkIdType np = grid.num_points(), ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
-  element_force_.assign(12 * ne, 0.0);
-  viscous_power_.assign(ne, 0.0);
   node_start_.assign(np + 1, 0);
   for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
   for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
   node_entries_.resize(4 * ne);
   std::vector<vtkIdType> fill(node_start_.begin(), node_start_.end() - 1);
-  for (vtkIdType i = 0; i < 4 * ne; ++i) node_entries_[fill[cells[i]]++] = i;  // in cell order
+  BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
+  for (vtkIdType i = 0; i < 4 * ne; ++i)
+    node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
 }
 
 vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
                                   std::vector<double>& force) {
-  const vtkIdType ne = grid.num_cells(), np = grid.num_points();
+  const vtkIdType ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
   double* ef = element_force_.data();
   double* vp = viscous_power_.data();
+  double* volume = volume_.data();
+  double* bound = sigma1_bound_.data();
   const double K = K_, mu = mu_;
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
 
@@ -108,19 +135,20 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
     const Mat3 Ds = edge_matrix(x, n);
     const Mat3 Vs = edge_matrix(v, n);
     const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
-    const Mat3 F = Ds * Dm_inv;
-    const double J = F.determinant();
+    double det_Ds;
+    // G = Ds^-1 = Dm^-1 F^-1: its rows are the current gradients of N1..N3.
+    const Mat3 G = inverse_with_det(Ds, det_Ds);
+    const double vol = det_Ds / 6.0;
+    const double J = vol * el.inv_V0[e];  // det F = det Ds / det Dm
     if (!(J > 0.0)) {  // inverted, degenerate or NaN: report, leave forces of this element
       first_bad = std::min(first_bad, e);
       continue;
     }
-    // G = Dm^-1 F^-1 = Ds^-1: its rows are the current gradients of N1..N3.
-    const Mat3 G = Dm_inv * F.inverse();
+    const Mat3 F = Ds * Dm_inv;
     const Mat3 T_el = elastic_stress(F, J, K, mu, Omega[e]);  // (B.4)
     const Mat3 L = Vs * G;                                   // velocity gradient
     const Mat3 D = 0.5 * (L + L.transpose());
     const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
-    const double vol = J * el.V0[e];
     // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3)
     const Mat3 f = -vol * (T_el + T_v) * G.transpose();
     const Vec3 f0 = -f.rowwise().sum();
@@ -132,14 +160,24 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
       out[9 + k] = f(k, 2);
     }
     vp[e] = vol * (T_v.cwiseProduct(D)).sum();
+    volume[e] = vol;
+    bound[e] = (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs()))
+                   .maxCoeff();
     double* s = stress + 6 * e;
     s[0] = T_el(0, 0), s[1] = T_el(1, 1), s[2] = T_el(2, 2);
     s[3] = T_el(0, 1), s[4] = T_el(1, 2), s[5] = T_el(0, 2);
   }
 
+  gather(grid, force);
+  return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
+}
+
+void ForceAssembler::gather(const Grid& grid, std::vector<double>& force) const {
+  const vtkIdType np = grid.num_points();
   force.resize(3 * np);
   const vtkIdType* start = node_start_.data();
-  const vtkIdType* entries = node_entries_.data();
+  const std::int32_t* entries = node_entries_.data();
+  const double* ef = element_force_.data();
   double* f = force.data();
 #pragma omp parallel for schedule(static)
   for (vtkIdType p = 0; p < np; ++p) {
@@ -150,7 +188,6 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
     }
     f[3 * p] = s0, f[3 * p + 1] = s1, f[3 * p + 2] = s2;
   }
-  return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
 }
 
 double ForceAssembler::viscous_power() const {

@@ -2,6 +2,7 @@
 // per-element forces (B.4)+(B.5), deterministic assembly, the stable time step (SPEC 4).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "grid.hpp"
@@ -13,6 +14,7 @@ namespace brittle {
 struct ElementData {
   std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
   std::vector<double> V0;       ///< reference volume
+  std::vector<double> inv_V0;   ///< 1 / V0
   std::vector<double> eta_dil;  ///< zeta1 rho0 c_p h_e: bulk viscosity of the element
   std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
 };
@@ -36,8 +38,12 @@ class ForceAssembler {
  public:
   ForceAssembler(const Grid& grid, const ElasticConstants& c);
 
-  /// Rebuilds the node -> (element, corner) table (after topology changes).
+  /// Rebuilds the node -> (element, corner) table (after topology changes; splits never
+  /// change the number of cells).
   void rebuild(const Grid& grid);
+
+  /// Sums the element forces of the last compute() into nodal forces (after a rebuild).
+  void gather(const Grid& grid, std::vector<double>& force) const;
 
   /// Computes elastic + viscous nodal forces at the grid's current x and v into `force`
   /// (3 per point), the elastic stress into the grid's "stress" cell array, and per-element
@@ -48,12 +54,26 @@ class ForceAssembler {
   /// Sum over elements of v T_v : D from the last compute() (deterministic order).
   double viscous_power() const;
 
+  /// From the last compute(): the 3 force components on corner c of element e at
+  /// element_forces()[12 e + 3 c]; current volumes; an upper bound of the largest principal
+  /// value of T_el per element (Gershgorin), which also bounds every nodal average (2.10).
+  const double* element_forces() const { return element_force_.data(); }
+  const double* volumes() const { return volume_.data(); }
+  const double* sigma1_bound() const { return sigma1_bound_.data(); }
+
+  /// Node -> (4 element + corner) entries, in cell order: node p owns
+  /// node_entries()[node_start()[p] .. node_start()[p + 1]).
+  const std::vector<vtkIdType>& node_start() const { return node_start_; }
+  const std::vector<std::int32_t>& node_entries() const { return node_entries_; }
+
  private:
   double K_, mu_;
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
   std::vector<double> viscous_power_;   // 1 per element
-  std::vector<vtkIdType> node_start_;   // CSR: node -> range in node_entries_
-  std::vector<vtkIdType> node_entries_; // 4 * element + corner
+  std::vector<double> volume_;          // 1 per element
+  std::vector<double> sigma1_bound_;    // 1 per element
+  std::vector<vtkIdType> node_start_;     // CSR: node -> range in node_entries_
+  std::vector<std::int32_t> node_entries_; // 4 * element + corner (32 bits: less traffic)
 };
 
 }  // namespace brittle

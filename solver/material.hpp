@@ -28,11 +28,21 @@ double rayleigh_speed(double c_p, double c_s);
 /// rho0 Sigma = (1-Omega) [K((J-1) - ln J) + mu/2 (alpha1 - 3)],  alpha1 = J^(-2/3) tr B   (B.2)
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
 
+/// J^(-1/3). Near J = 1 (every element but those at a crack tip) by Newton's iteration
+/// y <- y (4 - J y^3) / 3 from the linearisation, with no division: three iterations reach
+/// round-off for |J - 1| < 0.05 (errors 6e-4 -> 7e-7 -> 1e-12 -> 1e-24). Else 1/cbrt(J).
+inline double inverse_cbrt(double J) {
+  if (std::abs(J - 1.0) >= 0.05) return 1.0 / std::cbrt(J);
+  double y = (4.0 - J) / 3.0;
+  for (int i = 0; i < 3; ++i) y *= (4.0 - J * y * y * y) * (1.0 / 3.0);
+  return y;
+}
+
 /// T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)]   (B.4), J = det F given.
 inline Mat3 elastic_stress(const Mat3& F, double J, double K, double mu, double Omega) {
   const Mat3 B = F * F.transpose();
-  const double c = std::cbrt(J);
-  const double mu_J53 = mu / (J * c * c);  // mu J^(-5/3) without pow()
+  const double y = inverse_cbrt(J), y2 = y * y;
+  const double mu_J53 = mu * y2 * y2 * y;  // mu J^(-5/3) without pow()
   Mat3 T = mu_J53 * B;
   T.diagonal().array() += -K * (1.0 / J - 1.0) - mu_J53 * B.trace() / 3.0;
   return (1.0 - Omega) * T;

@@ -1,12 +1,20 @@
 // VTU/PVD time series, energy CSV and run summary (SPEC 9).
 #include "output.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkXMLDataElement.h>
+#include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLUtilities.h>
 
@@ -27,35 +35,84 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-VtuSeriesWriter::VtuSeriesWriter(std::string directory)
-    : directory_(std::move(directory)), pvd_path_(directory_ + "/run.pvd") {
-  fs::create_directories(directory_ + "/frames");
+void PvdCollection::add(double time, const std::string& relative_file) {
+  entries_.emplace_back(time, relative_file);
+  std::ostringstream pvd;
+  pvd << "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n"
+      << std::setprecision(17);
+  for (const auto& [t, file] : entries_)
+    pvd << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file
+        << "\"/>\n";
+  pvd << "  </Collection>\n</VTKFile>\n";
+  write_file_atomically(path_, pvd.str());
 }
 
-void VtuSeriesWriter::on_frame(const Simulation& sim) {
-  std::ostringstream name;
-  name << "frames/frame_" << std::setw(4) << std::setfill('0') << frames_.size() << ".vtu";
-  const std::string path = directory_ + "/" + name.str();
-  auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-  writer->SetInputData(sim.grid().vtk());
+namespace {
+
+/// Writes a VTK XML file through a temporary name (binary, appended, zlib).
+void write_xml(vtkXMLWriter* writer, vtkDataObject* data, const std::string& path) {
+  writer->SetInputData(data);
   writer->SetFileName((path + ".tmp").c_str());
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetCompressorTypeToZLib();
   BRITTLE_CHECK(writer->Write() == 1, "output: cannot write '", path, "'");
   fs::rename(path + ".tmp", path);
-  frames_.emplace_back(sim.time(), name.str());
+}
 
-  std::ostringstream pvd;
-  pvd << "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-         "  <Collection>\n"
-      << std::setprecision(17);
-  for (const auto& [t, file] : frames_)
-    pvd << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file
-        << "\"/>\n";
-  pvd << "  </Collection>\n</VTKFile>\n";
-  write_file_atomically(pvd_path_, pvd.str());
+/// The cohesive links as line cells between their current end points.
+vtkSmartPointer<vtkPolyData> link_lines(const Simulation& sim) {
+  const auto& links = sim.fracture().links();
+  const double* x = sim.grid().x();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  const char* names[] = {"f", "f0", "delta", "delta_max", "delta_c", "omega", "A_c"};
+  std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
+  for (const char* name : names) {
+    arrays.push_back(vtkSmartPointer<vtkDoubleArray>::New());
+    arrays.back()->SetName(name);
+    data->GetCellData()->AddArray(arrays.back());
+  }
+  for (const CohesiveLink& l : links) {
+    const vtkIdType ids[2] = {points->InsertNextPoint(x + 3 * l.a), points->InsertNextPoint(x + 3 * l.b)};
+    lines->InsertNextCell(2, ids);
+    const double values[] = {l.f, l.f0, l.delta, l.delta_max, l.delta_c, l.omega, l.A_c};
+    for (std::size_t i = 0; i < arrays.size(); ++i) arrays[i]->InsertNextValue(values[i]);
+  }
+  data->SetPoints(points);
+  data->SetLines(lines);
+  auto time = vtkSmartPointer<vtkDoubleArray>::New();
+  time->SetName(field::time);
+  time->InsertNextValue(sim.time());
+  data->GetFieldData()->AddArray(time);
+  return data;
+}
+
+}  // namespace
+
+VtuSeriesWriter::VtuSeriesWriter(std::string directory)
+    : directory_(std::move(directory)),
+      grid_series_(directory_ + "/run.pvd"),
+      link_series_(directory_ + "/links.pvd") {
+  fs::create_directories(directory_ + "/frames");
+}
+
+void VtuSeriesWriter::on_frame(const Simulation& sim) {
+  std::ostringstream number;
+  number << std::setw(4) << std::setfill('0') << frames_++;
+  const std::string grid_file = "frames/frame_" + number.str() + ".vtu";
+  write_xml(vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New(), sim.grid().vtk(),
+            directory_ + "/" + grid_file);
+  grid_series_.add(sim.time(), grid_file);
+  if (!sim.fracture().enabled()) return;
+  const std::string link_file = "frames/links_" + number.str() + ".vtp";
+  write_xml(vtkSmartPointer<vtkXMLPolyDataWriter>::New(), link_lines(sim),
+            directory_ + "/" + link_file);
+  link_series_.add(sim.time(), link_file);
 }
 
 std::vector<PvdEntry> read_pvd(const std::string& path) {
@@ -83,16 +140,39 @@ std::vector<PvdEntry> read_pvd(const std::string& path) {
 EnergyCsvWriter::EnergyCsvWriter(const std::string& directory)
     : out_(directory + "/energies.csv", std::ios::trunc) {
   BRITTLE_CHECK(out_, "output: cannot write '", directory, "/energies.csv'");
-  out_ << "time,kinetic,elastic,viscous_dissipated,total,relative_imbalance\n";
+  out_ << "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,total,"
+          "relative_imbalance\n";
 }
 
 void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
   if (initial_ < 0) initial_ = e.total();
   const double imbalance = initial_ > 0 ? (e.total() - initial_) / initial_ : 0.0;
   out_ << std::setprecision(12) << e.time << ',' << e.kinetic << ',' << e.elastic << ','
-       << e.viscous_dissipated << ',' << e.total() << ',' << imbalance << '\n';
+       << e.viscous_dissipated << ',' << e.cohesive_stored << ',' << e.cohesive_dissipated << ','
+       << e.total() << ',' << imbalance << '\n';
   out_.flush();
 }
+
+void CrackTipCsvWriter::on_finish(const Simulation& sim, const RunSummary&) {
+  const auto& samples = sim.tip_samples();
+  const std::vector<double> speed = smoothed_speed(samples, 0.5e-6);
+  std::ostringstream csv;
+  csv << "time,tip_x,tip_y,splits,speed\n" << std::setprecision(12);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    csv << samples[i].t << ',' << samples[i].x << ',' << samples[i].y << ',' << samples[i].splits
+        << ',' << speed[i] << '\n';
+  write_file_atomically(directory_ + "/crack_tip.csv", csv.str());
+}
+
+namespace {
+/// JSON has no NaN: write null.
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+}  // namespace
 
 void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
   std::string status;
@@ -117,7 +197,19 @@ void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
     << "  \"final_kinetic\": " << e.kinetic << ",\n"
     << "  \"final_elastic\": " << e.elastic << ",\n"
     << "  \"viscous_dissipated\": " << e.viscous_dissipated << ",\n"
-    << "  \"max_relative_imbalance\": " << s.max_relative_imbalance << "\n"
+    << "  \"cohesive_stored\": " << e.cohesive_stored << ",\n"
+    << "  \"cohesive_dissipated\": " << e.cohesive_dissipated << ",\n"
+    << "  \"max_relative_imbalance\": " << s.max_relative_imbalance << ",\n"
+    << "  \"splits\": " << s.splits << ",\n"
+    << "  \"live_links\": " << s.live_links << ",\n"
+    << "  \"tip_x\": " << s.tip_x << ",\n"
+    << "  \"tip_y\": " << s.tip_y << ",\n"
+    << "  \"crack_speed\": " << json_number(s.crack_speed.speed) << ",\n"
+    << "  \"crack_speed_samples\": " << s.crack_speed.samples << ",\n"
+    << "  \"crack_speed_window\": [" << s.crack_speed.t_begin << ", " << s.crack_speed.t_end << "],\n"
+    << "  \"crack_speed_r2\": " << json_number(s.crack_speed.r2) << ",\n"
+    << "  \"W\": " << s.W << ",\n"
+    << "  \"zhou_speed\": " << s.zhou_speed << "\n"
     << "}\n";
   write_file_atomically(directory_ + "/summary.json", j.str());
 }
@@ -127,6 +219,7 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   fs::create_directories(dir);
   if (sim.scene().output.vtu) writers_.push_back(std::make_unique<VtuSeriesWriter>(dir));
   writers_.push_back(std::make_unique<EnergyCsvWriter>(dir));
+  if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));
 }
 

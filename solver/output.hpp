@@ -13,16 +13,41 @@
 
 namespace brittle {
 
-/// Writes <dir>/frames/frame_NNNN.vtu at every frame and rewrites <dir>/run.pvd after each.
+/// A .pvd collection that is rewritten whole after every added file.
+class PvdCollection {
+ public:
+  explicit PvdCollection(std::string path) : path_(std::move(path)) {}
+  void add(double time, const std::string& relative_file);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::vector<std::pair<double, std::string>> entries_;
+};
+
+/// Writes <dir>/frames/frame_NNNN.vtu (the live grid) at every frame, and, when fracture is
+/// on, <dir>/frames/links_NNNN.vtp (one line cell per cohesive link with f, delta, omega);
+/// rewrites <dir>/run.pvd and <dir>/links.pvd after each.
 class VtuSeriesWriter : public Observer {
  public:
   explicit VtuSeriesWriter(std::string directory);
   void on_frame(const Simulation& sim) override;
-  const std::string& pvd_path() const { return pvd_path_; }
+  const std::string& pvd_path() const { return grid_series_.path(); }
 
  private:
-  std::string directory_, pvd_path_;
-  std::vector<std::pair<double, std::string>> frames_;  // time, path relative to directory_
+  std::string directory_;
+  PvdCollection grid_series_, link_series_;
+  int frames_ = 0;
+};
+
+/// <dir>/crack_tip.csv at the end of the run: t, tip x, tip y, splits, smoothed speed.
+class CrackTipCsvWriter : public Observer {
+ public:
+  explicit CrackTipCsvWriter(std::string directory) : directory_(std::move(directory)) {}
+  void on_finish(const Simulation& sim, const RunSummary& s) override;
+
+ private:
+  std::string directory_;
 };
 
 /// <dir>/energies.csv: one row per energy interval, every term of the budget and the

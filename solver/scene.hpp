@@ -45,6 +45,16 @@ struct LoadingParams {
   }
 };
 
+/// Node splitting and nodal cohesive forces (SPEC 5). sigma_c and gamma are material keys.
+struct FractureParams {
+  enum class Mode { none, straight, branching };
+  Mode mode = Mode::none;          ///< none: no node breaks; straight: y = 0, x >= a only (6.7)
+  double alpha = 0.0;              ///< rate parameter of (4.4) [s]; 0 = rate-independent (3.5)
+  double n = 0.2;                  ///< exponent of (4.4)
+  double speed_window_start = 10e-6;  ///< steady crack speed fitted from this time [s]
+  double speed_edge_margin = 2e-3;    ///< ... until the tip is this close to x = L [m]
+};
+
 struct RunParams {
   double end_time = 30e-6;  ///< simulated time [s]
   double cfl = 0.5;         ///< fraction of the stable time step
@@ -64,6 +74,7 @@ struct Scene {
   GeometryParams geometry;
   MeshParams mesh;
   LoadingParams loading;
+  FractureParams fracture;
   RunParams run;
   OutputParams output;
   std::vector<std::string> sources;  ///< the INI files and --set overrides it came from

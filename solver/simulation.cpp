@@ -22,7 +22,8 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       sigma_(scene.loading.stress(scene.material)),
       grid_(reference_mesh),
       elements_(make_element_data(grid_, constants_, scene.material)),
-      assembler_(grid_, constants_) {
+      assembler_(grid_, constants_),
+      fracture_(scene, grid_) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   if (scene.run.threads > 0) omp_set_num_threads(scene.run.threads);
   lump_masses(grid_, elements_, constants_.rho0);
@@ -46,20 +47,20 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
 }
 
 void Simulation::step() {
-  const vtkIdType np = grid_.num_points();
-  double *x = grid_.x(), *v = grid_.v();
-  const double* m = grid_.mass();
-  const std::uint8_t* fixed = grid_.fixed();
   const double h = 0.5 * dt_, dt = dt_;
-  double* f = force_.data();
-
-  // Kick (half step) and drift with the forces of the current state.
+  {
+    // Kick (half step) and drift with the forces of the current state.
+    const vtkIdType np = grid_.num_points();
+    double *x = grid_.x(), *v = grid_.v();
+    const double *m = grid_.mass(), *f = force_.data();
+    const std::uint8_t* fixed = grid_.fixed();
 #pragma omp parallel for schedule(static)
-  for (vtkIdType i = 0; i < np; ++i) {
-    if (fixed[i]) continue;
-    for (int k = 0; k < 3; ++k) {
-      v[3 * i + k] += h * f[3 * i + k] / m[i];
-      x[3 * i + k] += dt * v[3 * i + k];
+    for (vtkIdType i = 0; i < np; ++i) {
+      if (fixed[i]) continue;
+      for (int k = 0; k < 3; ++k) {
+        v[3 * i + k] += h * f[3 * i + k] / m[i];
+        x[3 * i + k] += dt * v[3 * i + k];
+      }
     }
   }
   // Forces at the new positions; the viscous part sees the half-step velocities.
@@ -69,11 +70,26 @@ void Simulation::step() {
                               "): element ", bad, " inverted or NaN; try a smaller run.cfl"));
   }
   viscous_dissipated_ += dt * assembler_.viscous_power();
-  f = force_.data();
+
+  // Fracture: nodes at sigma_c split; their element forces are re-summed per daughter.
+  if (fracture_.enabled()) {
+    const auto candidates = fracture_.candidates(grid_, assembler_);
+    if (!candidates.empty() && !fracture_.split(grid_, elements_, assembler_, candidates).empty()) {
+      assembler_.rebuild(grid_);
+      assembler_.gather(grid_, force_);
+    }
+    fracture_.apply_links(grid_, force_, dt);
+  }
+  {
+    const vtkIdType np = grid_.num_points();
+    double* v = grid_.v();
+    const double *m = grid_.mass(), *f = force_.data();
+    const std::uint8_t* fixed = grid_.fixed();
 #pragma omp parallel for schedule(static)
-  for (vtkIdType i = 0; i < np; ++i) {
-    if (fixed[i]) continue;
-    for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
+    for (vtkIdType i = 0; i < np; ++i) {
+      if (fixed[i]) continue;
+      for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
+    }
   }
   time_ += dt_;
   ++steps_;
@@ -98,6 +114,8 @@ Energies Simulation::energies() const {
     e.elastic += elements_.V0[c] * strain_energy_density(F, constants_.K, constants_.mu, Omega[c]);
   }
   e.viscous_dissipated = viscous_dissipated_;
+  e.cohesive_stored = fracture_.stored_energy();
+  e.cohesive_dissipated = fracture_.dissipated_energy();
   return e;
 }
 
@@ -158,6 +176,9 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
             std::max(summary.max_relative_imbalance,
                      std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic);
       for (Observer* o : observers) o->on_energy(*this, e);
+      const bool split = fracture_.splits() > 0;
+      tip_samples_.push_back({time_, split ? fracture_.tip_x() : scene_.geometry.notch_depth,
+                              split ? fracture_.tip_y() : 0.0, fracture_.splits()});
       while (due(next_energy)) next_energy += energy_interval;
     }
     if (next_frame < frames.size() && due(frames[next_frame])) {
@@ -187,6 +208,13 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.wall_seconds = wall;
   summary.tet_updates_per_second = wall > 0 ? double(steps_) * grid_.num_cells() / wall : 0.0;
   summary.final_energies = energies();
+  summary.splits = fracture_.splits();
+  summary.live_links = static_cast<long>(fracture_.links().size());
+  if (!tip_samples_.empty()) summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
+  summary.crack_speed = steady_speed(tip_samples_, scene_.fracture.speed_window_start,
+                                     scene_.geometry.L - scene_.fracture.speed_edge_margin);
+  summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
+  summary.zhou_speed = zhou_speed(summary.W);
   for (Observer* o : observers) o->on_finish(*this, summary);
   if (summary.status != "completed") throw Error(summary.status.substr(8));
   return summary;

@@ -7,6 +7,8 @@
 
 #include <vtkUnstructuredGrid.h>
 
+#include "crack_tip.hpp"
+#include "fracture.hpp"
 #include "grid.hpp"
 #include "integrator.hpp"
 #include "material.hpp"
@@ -20,7 +22,11 @@ struct Energies {
   double kinetic = 0;             ///< sum 1/2 m v^2
   double elastic = 0;             ///< sum V0 rho0 Sigma   (B.2)
   double viscous_dissipated = 0;  ///< integral of sum v T_v : D dt
-  double total() const { return kinetic + elastic + viscous_dissipated; }
+  double cohesive_stored = 0;     ///< sum of f delta / 2 over live links (3.1)
+  double cohesive_dissipated = 0; ///< integral of D_c (3.3), removed links included
+  double total() const {
+    return kinetic + elastic + viscous_dissipated + cohesive_stored + cohesive_dissipated;
+  }
 };
 
 struct RunSummary {
@@ -34,6 +40,11 @@ struct RunSummary {
   double initial_elastic = 0;
   double max_relative_imbalance = 0;  ///< max |E(t) - E(0)| / E(0) over energy rows
   Energies final_energies;
+  long splits = 0, live_links = 0;
+  double tip_x = 0, tip_y = 0;      ///< final crack tip (reference coordinates)
+  SpeedFit crack_speed;             ///< steady speed over the window of SPEC 5
+  double W = 0;                     ///< H sigma^2 / (2E)
+  double zhou_speed = 0;            ///< speed of the Zhou et al. fit (1.1) at W
 };
 
 class Simulation;
@@ -74,6 +85,10 @@ class Simulation {
   Grid& grid() { return grid_; }
   const Grid& grid() const { return grid_; }
   const std::vector<double>& force() const { return force_; }
+  const Fracture& fracture() const { return fracture_; }
+  Fracture& fracture() { return fracture_; }
+  /// Crack tip samples, one per energy interval (tip = notch tip before the first split).
+  const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
 
   /// Kinetic, elastic and dissipated energies now (deterministic serial sums).
   Energies energies() const;
@@ -91,7 +106,9 @@ class Simulation {
   Grid grid_;
   ElementData elements_;
   ForceAssembler assembler_;
+  Fracture fracture_;
   std::vector<double> force_;
+  std::vector<TipSample> tip_samples_;
   double dt_ = 0, time_ = 0;
   long steps_ = 0;
   double viscous_dissipated_ = 0;

@@ -98,3 +98,16 @@ TEST(Material, WaveSpeeds) {
 
 }  // namespace
 }  // namespace brittle
+
+namespace brittle {
+namespace {
+
+// The division-free J^(-1/3) used in the step loop agrees with the library to round-off
+// on both sides of its switch-over.
+TEST(Material, InverseCubeRoot) {
+  for (double J : {0.2, 0.9, 0.9501, 0.97, 0.999, 1.0, 1.0066, 1.03, 1.0499, 1.2, 5.0})
+    EXPECT_NEAR(inverse_cbrt(J), 1.0 / std::cbrt(J), 4e-16) << "J = " << J;
+}
+
+}  // namespace
+}  // namespace brittle

@@ -26,6 +26,7 @@
 
 #include "error.hpp"
 #include "plate_mesh.hpp"
+#include "scene_options.hpp"
 
 namespace {
 
@@ -155,21 +156,12 @@ double plate_volume(const GeometryParams& g) {
   return (g.L * g.H - g.notch_depth * b / 2) * g.T;
 }
 
-MeshParams cm() {
-  MeshParams m;
-  m.size = 500e-6;
-  m.layers = 1;
-  return m;
+/// The [mesh] section of a shipped scene, parsed as the program parses it.
+MeshParams scene_mesh(const std::string& name) {
+  return brittle::load_scene({std::string(BRITTLE_SOURCE_DIR) + "/scenes/" + name + ".ini"}, {}).mesh;
 }
-
-MeshParams rm() {  // must match scenes/mesh-rm.ini
-  MeshParams m;
-  m.size = 500e-6;
-  m.band = 1e-3;
-  m.band_size = 250e-6;
-  m.layers = 2;
-  return m;
-}
+MeshParams cm() { return scene_mesh("cm"); }
+MeshParams rm() { return scene_mesh("rm"); }
 
 MeshParams coarse(int layers = 2) {
   MeshParams m;
@@ -178,29 +170,6 @@ MeshParams coarse(int layers = 2) {
   return m;
 }
 
-/// The [mesh] keys of a scene fragment, as written.
-std::map<std::string, std::string> ini_mesh_keys(const std::string& path) {
-  std::ifstream in(path);
-  std::map<std::string, std::string> keys;
-  std::string line, section;
-  while (std::getline(in, line)) {
-    line.erase(0, line.find_first_not_of(" \t"));
-    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
-    if (line[0] == '[') {
-      section = line.substr(1, line.find(']') - 1);
-      continue;
-    }
-    const auto eq = line.find('=');
-    if (section != "mesh" || eq == std::string::npos) continue;
-    auto trim = [](std::string s) {
-      s.erase(0, s.find_first_not_of(" \t"));
-      s.erase(s.find_last_not_of(" \t\r") + 1);
-      return s;
-    };
-    keys[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
-  }
-  return keys;
-}
 
 class TempDir {
  public:
@@ -279,16 +248,6 @@ TEST(PlateMesh, RefinedMeshCountsMatchThePaperAndTheBandIsFiner) {
   EXPECT_NEAR(out_sum / out_n, m.size, 0.3 * m.size);
 }
 
-TEST(PlateMesh, SceneFragmentsHoldTheTestedParameters) {
-  const auto cm_keys = ini_mesh_keys(std::string(BRITTLE_SOURCE_DIR) + "/scenes/mesh-cm.ini");
-  EXPECT_DOUBLE_EQ(std::stod(cm_keys.at("size")), cm().size);
-  EXPECT_EQ(std::stoi(cm_keys.at("layers")), cm().layers);
-  const auto rm_keys = ini_mesh_keys(std::string(BRITTLE_SOURCE_DIR) + "/scenes/mesh-rm.ini");
-  EXPECT_DOUBLE_EQ(std::stod(rm_keys.at("size")), rm().size);
-  EXPECT_DOUBLE_EQ(std::stod(rm_keys.at("band")), rm().band);
-  EXPECT_DOUBLE_EQ(std::stod(rm_keys.at("band_size")), rm().band_size);
-  EXPECT_EQ(std::stoi(rm_keys.at("layers")), rm().layers);
-}
 
 // ---------------------------------------------------------------------------------------------
 // Geometry and conformity of the generated plate
