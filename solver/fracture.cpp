@@ -21,6 +21,7 @@ Fracture::Fracture(const Scene& scene, const Grid& grid)
       law_{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
       tip_x_(std::numeric_limits<double>::quiet_NaN()),
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
+  linked_.assign(grid.num_points(), 0);
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
   const double* X = grid.X();
@@ -93,6 +94,7 @@ std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements
     SplitRecord r;
     if (split_one(grid, elements, forces, c, r)) records.push_back(r);
   }
+  if (!records.empty()) refresh_linked(grid.num_points());
   return records;
 }
 
@@ -187,23 +189,89 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   return true;
 }
 
-void Fracture::apply_links(const Grid& grid, std::vector<double>& force, double dt) {
-  const double* x = grid.x();
-  double* f = force.data();
-  for (CohesiveLink& l : links_) {
-    const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
-    const double delta = d.norm();
-    advance_link(l, delta, dt, law_);
-    // e = (x_B - x_A) / delta (2.7); the creation direction (2.9) while delta is round-off.
-    const Vec3 e = delta > 1e-9 * l.delta_c && delta > 0 ? Vec3(d / delta) : l.e0;
-    for (int k = 0; k < 3; ++k) {
-      f[3 * l.a + k] += l.f * e[k];
-      f[3 * l.b + k] -= l.f * e[k];
-    }
+int Fracture::choose_substeps(const Grid& grid, double dt) const {
+  // Largest link frequency sqrt(k / m_red), k = f0 (1 - omega) / delta_max, delta_max taken
+  // at least 1e-3 delta_c (the law's own softening slope is f0 / delta_c); 0.5 rad a sub-step.
+  const double* m = grid.mass();
+  double omega_max = 0;
+  for (const CohesiveLink& l : links_) {
+    if (l.delta_c <= 0 || l.broken()) continue;
+    const double k = l.f0 * (1 - l.omega) / std::max(l.delta_max, 1e-3 * l.delta_c);
+    const double m_red = m[l.a] * m[l.b] / (m[l.a] + m[l.b]);
+    omega_max = std::max(omega_max, std::sqrt(k / m_red));
   }
+  constexpr int kMaxSubsteps = 256;
+  return std::clamp(static_cast<int>(std::ceil(dt * omega_max / 0.5)), 1, kMaxSubsteps);
+}
+
+void Fracture::advance_links(Grid& grid, double dt) {
+  substeps_ = 0;
+  if (links_.empty()) return;
+  substeps_ = choose_substeps(grid, dt);
+  const double h = dt / substeps_;
+  double *x = grid.x(), *v = grid.v();
+  const double* m = grid.mass();
+  // Kick a and b by +-f e over a half sub-step; e = (x_b - x_a) / delta (2.7), the creation
+  // direction (2.9) while delta is round-off.
+  auto kick = [&](double tau) {
+    for (const CohesiveLink& l : links_) {
+      const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
+      const double delta = d.norm();
+      const Vec3 e = delta > 1e-9 * l.delta_c && delta > 0 ? Vec3(d / delta) : l.e0;
+      for (int k = 0; k < 3; ++k) {
+        v[3 * l.a + k] += tau * l.f * e[k] / m[l.a];
+        v[3 * l.b + k] -= tau * l.f * e[k] / m[l.b];
+      }
+    }
+  };
+  start_x_.resize(3 * linked_nodes_.size());
+  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
+    for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * linked_nodes_[i] + k];
+  step_ = dt;
+  for (int s = 0; s < substeps_; ++s) {
+    kick(0.5 * h);
+    for (vtkIdType p : linked_nodes_)
+      for (int k = 0; k < 3; ++k) x[3 * p + k] += h * v[3 * p + k];
+    for (CohesiveLink& l : links_)
+      advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), h, law_);
+    kick(0.5 * h);
+  }
+}
+
+void Fracture::swap_in_mean_velocities(Grid& grid) {
+  if (start_x_.empty()) return;
+  double *x = grid.x(), *v = grid.v();
+  saved_v_.resize(start_x_.size());
+  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const vtkIdType j = 3 * linked_nodes_[i] + k;
+      saved_v_[3 * i + k] = v[j];
+      v[j] = (x[j] - start_x_[3 * i + k]) / step_;
+    }
+}
+
+void Fracture::restore_velocities(Grid& grid) {
+  if (start_x_.empty()) return;
+  double* v = grid.v();
+  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * linked_nodes_[i] + k] = saved_v_[3 * i + k];
+  start_x_.clear();
+  // Links whose omega reached 1 go now that nobody needs the node list of this step.
+  const std::size_t before = links_.size();
   for (const CohesiveLink& l : links_)
     if (l.broken()) removed_dissipated_ += l.dissipated;
   std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });
+  if (links_.size() != before) refresh_linked(grid.num_points());
+}
+
+void Fracture::refresh_linked(vtkIdType num_points) {
+  for (vtkIdType p : linked_nodes_) linked_[p] = 0;
+  linked_.resize(num_points, 0);
+  linked_nodes_.clear();
+  for (const CohesiveLink& l : links_) linked_nodes_.push_back(l.a), linked_nodes_.push_back(l.b);
+  std::sort(linked_nodes_.begin(), linked_nodes_.end());
+  linked_nodes_.erase(std::unique(linked_nodes_.begin(), linked_nodes_.end()), linked_nodes_.end());
+  for (vtkIdType p : linked_nodes_) linked_[p] = 1;
 }
 
 double Fracture::stored_energy() const {

@@ -43,9 +43,28 @@ class Fracture {
                                  const ForceAssembler& forces,
                                  const std::vector<SplitCandidate>& candidates);
 
-  /// Moves every link to the current positions (2.7)-(2.8), (4.4), adds f e on a and -f e
-  /// on b to `force`, and removes links whose omega reached 1.
-  void apply_links(const Grid& grid, std::vector<double>& force, double dt);
+  /// Drift of the linked nodes over dt with the link forces sub-cycled (a RESPA multiple
+  /// time step: the element forces kick at dt, the links inside it at dt / N). A freshly
+  /// opened link unloads along f = f0 (1 - omega) delta / delta_max (2.8), a spring of
+  /// stiffness f0 (1 - omega) / delta_max that no element-sized step resolves while
+  /// delta_max is small; N is chosen so that every link spring is resolved (capped).
+  /// Each sub-step: kick by f e on a and -f e on b, drift, advance the law (2.7)-(2.8),
+  /// (4.4) over the sub-step, kick. Links whose omega reached 1 are removed by
+  /// restore_velocities.
+  void advance_links(Grid& grid, double dt);
+
+  /// The element viscosity must see the rate at which the nodes actually moved over the step:
+  /// for linked nodes that is (x_end - x_start) / dt, not their velocity after the last
+  /// sub-step. These swap those step-mean velocities in (after advance_links) and the
+  /// integrator's velocities back (after the element forces).
+  void swap_in_mean_velocities(Grid& grid);
+  void restore_velocities(Grid& grid);
+
+  /// 1 for nodes that hold a link (they move in advance_links, not in the plain drift).
+  const std::vector<std::uint8_t>& linked() const { return linked_; }
+
+  /// Sub-steps the last advance_links used.
+  int substeps() const { return substeps_; }
 
   const std::vector<CohesiveLink>& links() const { return links_; }
   std::vector<CohesiveLink>& links() { return links_; }
@@ -58,6 +77,8 @@ class Fracture {
   bool enabled() const { return mode_ != FractureParams::Mode::none; }
 
  private:
+  int choose_substeps(const Grid& grid, double dt) const;
+  void refresh_linked(vtkIdType num_points);
   bool split_one(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);
 
@@ -66,6 +87,11 @@ class Fracture {
   CohesiveLaw law_;
   std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a
   std::vector<CohesiveLink> links_;
+  std::vector<std::uint8_t> linked_;
+  std::vector<vtkIdType> linked_nodes_;
+  std::vector<double> start_x_, saved_v_;  // per linked node, 3 each
+  int substeps_ = 0;
+  double step_ = 0;
   double removed_dissipated_ = 0;
   long splits_ = 0;
   double tip_x_, tip_y_;

@@ -49,22 +49,24 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
 void Simulation::step() {
   const double h = 0.5 * dt_, dt = dt_;
   {
-    // Kick (half step) and drift with the forces of the current state.
+    // Kick (half step) with the element forces of the current state, and drift.
     const vtkIdType np = grid_.num_points();
     double *x = grid_.x(), *v = grid_.v();
     const double *m = grid_.mass(), *f = force_.data();
-    const std::uint8_t* fixed = grid_.fixed();
+    const std::uint8_t *fixed = grid_.fixed(), *linked = fracture_.linked().data();
 #pragma omp parallel for schedule(static)
     for (vtkIdType i = 0; i < np; ++i) {
       if (fixed[i]) continue;
-      for (int k = 0; k < 3; ++k) {
-        v[3 * i + k] += h * f[3 * i + k] / m[i];
-        x[3 * i + k] += dt * v[3 * i + k];
-      }
+      for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
+      if (linked[i]) continue;  // linked nodes drift with their links below
+      for (int k = 0; k < 3; ++k) x[3 * i + k] += dt * v[3 * i + k];
     }
   }
-  // Forces at the new positions; the viscous part sees the half-step velocities.
+  fracture_.advance_links(grid_, dt);
+  fracture_.swap_in_mean_velocities(grid_);
+  // Element forces at the new positions; the viscous part sees the half-step velocities.
   const vtkIdType bad = assembler_.compute(grid_, elements_, force_);
+  fracture_.restore_velocities(grid_);
   if (bad >= 0) {
     throw Error(error_message("blow-up at t = ", time_ + dt_, " s (step ", steps_ + 1,
                               "): element ", bad, " inverted or NaN; try a smaller run.cfl"));
@@ -72,13 +74,14 @@ void Simulation::step() {
   viscous_dissipated_ += dt * assembler_.viscous_power();
 
   // Fracture: nodes at sigma_c split; their element forces are re-summed per daughter.
+  std::vector<SplitRecord> splits;
   if (fracture_.enabled()) {
     const auto candidates = fracture_.candidates(grid_, assembler_);
-    if (!candidates.empty() && !fracture_.split(grid_, elements_, assembler_, candidates).empty()) {
+    if (!candidates.empty()) splits = fracture_.split(grid_, elements_, assembler_, candidates);
+    if (!splits.empty()) {
       assembler_.rebuild(grid_);
       assembler_.gather(grid_, force_);
     }
-    fracture_.apply_links(grid_, force_, dt);
   }
   {
     const vtkIdType np = grid_.num_points();
@@ -89,6 +92,16 @@ void Simulation::step() {
     for (vtkIdType i = 0; i < np; ++i) {
       if (fixed[i]) continue;
       for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
+    }
+    // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
+    // daughters keep K's acceleration (2.5). Without it, the unbalanced element forces of
+    // the daughters would open them by dt/2 (F_B/m_B - F_A/m_A) in velocity, an O(dt)
+    // error in energy at every split; the links' later impulses come from advance_links.
+    for (const SplitRecord& r : splits) {
+      for (int k = 0; k < 3; ++k) {
+        v[3 * r.a + k] += h * r.f0[k] / m[r.a];
+        v[3 * r.b + k] -= h * r.f0[k] / m[r.b];
+      }
     }
   }
   time_ += dt_;
