@@ -33,6 +33,7 @@ struct CohesiveLink {
   double delta = 0, delta_max = 0, omega = 0;
   double f = 0;           ///< current magnitude (2.8)
   double dissipated = 0;  ///< integral of D_c (3.3) so far
+  double opening_rate = 0;  ///< |change of delta| / dt over the last element step
   std::vector<CrackFace> faces;
 
   /// Stored energy V_c = f delta / 2 (3.1).

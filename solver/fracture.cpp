@@ -22,6 +22,8 @@ Fracture::Fracture(const Scene& scene, const Grid& grid)
       tip_x_(std::numeric_limits<double>::quiet_NaN()),
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
   linked_.assign(grid.num_points(), 0);
+  root_.resize(grid.num_points());
+  for (vtkIdType p = 0; p < grid.num_points(); ++p) root_[p] = p;
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
   const double* X = grid.X();
@@ -143,7 +145,9 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   r.m_b = grid.mass()[K] - r.m_a;
 
   // Faces through K whose two cells now take different daughters: new crack surface,
-  // both faces counted, 1/3 of each face per node: 2 area / 3   (SPEC 5).
+  // both faces counted, 1/3 of each face per node: 2 area / 3   (SPEC 5). A face is known
+  // by the original nodes of its other two corners: one of them may have split already, so
+  // that the two cells name different daughters of it.
   struct Face {
     vtkIdType p, q, cell;
     bool plus;
@@ -154,7 +158,8 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
     for (int j = 0; j < 4; ++j)
       if (j != k.corner) o[n++] = cells[4 * k.cell + j];
     for (auto [i, j] : {std::pair{0, 1}, {0, 2}, {1, 2}})
-      faces.push_back({std::min(o[i], o[j]), std::max(o[i], o[j]), k.cell, k.plus});
+      faces.push_back({std::min(root_[o[i]], root_[o[j]]), std::max(root_[o[i]], root_[o[j]]),
+                       k.cell, k.plus});
   }
   std::sort(faces.begin(), faces.end(),
             [](const Face& a, const Face& b) { return std::tie(a.p, a.q, a.cell) < std::tie(b.p, b.q, b.cell); });
@@ -165,10 +170,12 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
     const Face &f = faces[i], &g = faces[i + 1];
     if (f.p != g.p || f.q != g.q || f.plus == g.plus) continue;
     const double area = 0.5 * (Vec3(X + 3 * f.p) - XK).cross(Vec3(X + 3 * f.q) - XK).norm();
+    // (reference positions of daughters equal their original's, so roots give the area)
     crack.push_back({f.plus ? g.cell : f.cell, f.plus ? f.cell : g.cell, 2.0 * area / 3.0});
   }
 
   r.b = grid.split_node(K, b_cells);  // appends B, rewires b_cells; views refreshed
+  root_.push_back(root_[K]);
   grid.mass()[r.a] = r.m_a;
   grid.mass()[r.b] = r.m_b;
 
@@ -182,6 +189,7 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   r.f0 = (r.m_a * r.F_b - r.m_b * r.F_a) / (r.m_a + r.m_b);
   CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), law_);
   r.A_c = link.A_c;
+  crack_area_ += r.A_c;
   if (link.f0 > 0) links_.push_back(std::move(link));
 
   ++splits_;
@@ -190,18 +198,21 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
 }
 
 int Fracture::choose_substeps(const Grid& grid, double dt) const {
-  // Largest link frequency sqrt(k / m_red), k = f0 (1 - omega) / delta_max, delta_max taken
-  // at least 1e-3 delta_c (the law's own softening slope is f0 / delta_c); 0.5 rad a sub-step.
+  // Two limits per link: its spring k = f0 (1 - omega) / delta_max (delta_max taken at
+  // least 1e-3 delta_c; the law's own softening slope is f0 / delta_c) turns at most
+  // 0.5 rad per sub-step; and the opening (at last step's rate) grows by at most 2 % of
+  // delta_c per sub-step, so that the law (2.8), (4.4) is followed closely to omega = 1.
   const double* m = grid.mass();
-  double omega_max = 0;
+  double needed = 1;
   for (const CohesiveLink& l : links_) {
     if (l.delta_c <= 0 || l.broken()) continue;
     const double k = l.f0 * (1 - l.omega) / std::max(l.delta_max, 1e-3 * l.delta_c);
     const double m_red = m[l.a] * m[l.b] / (m[l.a] + m[l.b]);
-    omega_max = std::max(omega_max, std::sqrt(k / m_red));
+    needed = std::max({needed, dt * std::sqrt(k / m_red) / 0.5,
+                       l.opening_rate * dt / (0.02 * l.delta_c)});
   }
   constexpr int kMaxSubsteps = 256;
-  return std::clamp(static_cast<int>(std::ceil(dt * omega_max / 0.5)), 1, kMaxSubsteps);
+  return std::min(static_cast<int>(std::ceil(needed)), kMaxSubsteps);
 }
 
 void Fracture::advance_links(Grid& grid, double dt) {
@@ -224,6 +235,9 @@ void Fracture::advance_links(Grid& grid, double dt) {
       }
     }
   };
+  std::vector<double>& delta_start = delta_start_;
+  delta_start.resize(links_.size());
+  for (std::size_t i = 0; i < links_.size(); ++i) delta_start[i] = links_[i].delta;
   start_x_.resize(3 * linked_nodes_.size());
   for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
     for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * linked_nodes_[i] + k];
@@ -236,6 +250,8 @@ void Fracture::advance_links(Grid& grid, double dt) {
       advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), h, law_);
     kick(0.5 * h);
   }
+  for (std::size_t i = 0; i < links_.size(); ++i)
+    links_[i].opening_rate = std::abs(links_[i].delta - delta_start[i]) / dt;
 }
 
 void Fracture::swap_in_mean_velocities(Grid& grid) {

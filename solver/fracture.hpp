@@ -71,6 +71,8 @@ class Fracture {
   double stored_energy() const;      ///< sum of V_c over live links (3.1)
   double dissipated_energy() const;  ///< integral of D_c, removed links included (3.3)
   long splits() const { return splits_; }
+  /// Crack surface made so far, both faces: the sum of A_c over all splits [m^2].
+  double crack_area() const { return crack_area_; }
   /// Crack tip: the split node with the largest reference x (SPEC 5); NaN before any split.
   double tip_x() const { return tip_x_; }
   double tip_y() const { return tip_y_; }
@@ -89,11 +91,14 @@ class Fracture {
   std::vector<CohesiveLink> links_;
   std::vector<std::uint8_t> linked_;
   std::vector<vtkIdType> linked_nodes_;
+  std::vector<vtkIdType> root_;  // the original node every node descends from
   std::vector<double> start_x_, saved_v_;  // per linked node, 3 each
+  std::vector<double> delta_start_;        // per link
   int substeps_ = 0;
   double step_ = 0;
   double removed_dissipated_ = 0;
   long splits_ = 0;
+  double crack_area_ = 0;
   double tip_x_, tip_y_;
 };
 

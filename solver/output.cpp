@@ -202,6 +202,7 @@ void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
     << "  \"max_relative_imbalance\": " << s.max_relative_imbalance << ",\n"
     << "  \"splits\": " << s.splits << ",\n"
     << "  \"live_links\": " << s.live_links << ",\n"
+    << "  \"crack_area\": " << s.crack_area << ",\n"
     << "  \"tip_x\": " << s.tip_x << ",\n"
     << "  \"tip_y\": " << s.tip_y << ",\n"
     << "  \"crack_speed\": " << json_number(s.crack_speed.speed) << ",\n"

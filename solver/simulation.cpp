@@ -222,6 +222,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.tet_updates_per_second = wall > 0 ? double(steps_) * grid_.num_cells() / wall : 0.0;
   summary.final_energies = energies();
   summary.splits = fracture_.splits();
+  summary.crack_area = fracture_.crack_area();
   summary.live_links = static_cast<long>(fracture_.links().size());
   if (!tip_samples_.empty()) summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
   summary.crack_speed = steady_speed(tip_samples_, scene_.fracture.speed_window_start,

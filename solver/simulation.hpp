@@ -41,6 +41,7 @@ struct RunSummary {
   double max_relative_imbalance = 0;  ///< max |E(t) - E(0)| / E(0) over energy rows
   Energies final_energies;
   long splits = 0, live_links = 0;
+  double crack_area = 0;            ///< sum of A_c, both faces
   double tip_x = 0, tip_y = 0;      ///< final crack tip (reference coordinates)
   SpeedFit crack_speed;             ///< steady speed over the window of SPEC 5
   double W = 0;                     ///< H sigma^2 / (2E)
@@ -85,6 +86,7 @@ class Simulation {
   Grid& grid() { return grid_; }
   const Grid& grid() const { return grid_; }
   const std::vector<double>& force() const { return force_; }
+  const ForceAssembler& forces() const { return assembler_; }
   const Fracture& fracture() const { return fracture_; }
   Fracture& fracture() { return fracture_; }
   /// Crack tip samples, one per energy interval (tip = notch tip before the first split).
