@@ -47,13 +47,20 @@ class Progress : public brittle::Observer {
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double fraction = sim.time() / sim.scene().run.end_time;
     const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
-    std::fprintf(stderr, "\r  step %ld  t = %.3f us (%.0f%%)  ETA %.0f s   ", sim.steps(),
-                 sim.time() * 1e6, 100 * fraction, eta);
+    const auto& f = sim.fracture();
+    const double tip = f.splits() > 0 ? f.tip_x() : sim.scene().geometry.notch_depth;
+    std::fprintf(stderr, "\r  step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s   ",
+                 sim.steps(), sim.time() * 1e6, 100 * fraction, tip * 1e3, f.splits(), eta);
   }
   void on_finish(const brittle::Simulation&, const brittle::RunSummary& s) override {
     if (tty_) std::fputc('\n', stderr);
     std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n",
                  s.status.c_str(), s.steps, s.wall_seconds, s.tet_updates_per_second);
+    if (s.splits > 0)
+      std::fprintf(stderr,
+                   "brittle: %ld splits, tip at x = %.2f mm; steady speed %.0f m/s (Zhou fit at "
+                   "W = %.0f N/m: %.0f m/s)\n",
+                   s.splits, s.tip_x * 1e3, s.crack_speed.speed, s.W, s.zhou_speed);
   }
 
  private:

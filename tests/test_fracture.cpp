@@ -1,0 +1,256 @@
+// Node splitting and nodal cohesive forces (SPEC 5, paper sections 2-4 and Appendix A).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "cohesive.hpp"
+#include "error.hpp"
+#include "output.hpp"
+#include "plate_mesh.hpp"
+#include "simulation.hpp"
+
+namespace fs = std::filesystem;
+
+namespace brittle {
+namespace {
+
+Scene fracture_scene(FractureParams::Mode mode, double end_time, double mesh_size = 500e-6) {
+  Scene s;
+  s.loading.sigma_over_sigmac = 0.9;
+  s.fracture.mode = mode;
+  s.run.end_time = end_time;
+  s.mesh.size = mesh_size;
+  s.output.vtu = false;
+  s.output.frame_interval = 0;
+  return s;
+}
+
+Vec3 total_momentum(const Grid& g) {
+  Vec3 p = Vec3::Zero();
+  for (vtkIdType i = 0; i < g.num_points(); ++i) p += g.mass()[i] * Vec3(g.v() + 3 * i);
+  return p;
+}
+
+double total_mass(const Grid& g) {
+  double m = 0;
+  for (vtkIdType i = 0; i < g.num_points(); ++i) m += g.mass()[i];
+  return m;
+}
+
+// A split conserves mass and momentum, partitions K's force, and f0 (2.6) gives both
+// daughters the same acceleration (2.5).
+TEST(Split, ConservesMassMomentumAndEqualisesAccelerations) {
+  Scene s = fracture_scene(FractureParams::Mode::straight, 1e-6, 1e-3);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  Grid& g = sim.grid();
+  for (vtkIdType i = 0; i < g.num_points(); ++i)  // some motion, deterministic
+    for (int k = 0; k < 3; ++k) g.v()[3 * i + k] = std::sin(1.0 + 7.0 * i + 3.0 * k);
+  vtkIdType K = -1;
+  for (vtkIdType p = 0; p < g.num_points(); ++p)
+    if (std::abs(g.X()[3 * p + 1]) < 1e-12 && std::abs(g.X()[3 * p] - 10e-3) < 0.6e-3) K = p;
+  ASSERT_GE(K, 0);
+  const Vec3 F_K(sim.force().data() + 3 * K);
+  const double m_K = g.mass()[K], mass = total_mass(g);
+  const Vec3 p = total_momentum(g);
+  const vtkIdType np = g.num_points();
+
+  SplitCandidate c;
+  c.node = K;
+  c.sigma1 = 2 * s.material.sigma_c;
+  const auto records = sim.fracture().split(g, sim.elements(), sim.forces(), {c});
+  ASSERT_EQ(records.size(), 1u);
+  const SplitRecord& r = records[0];
+  EXPECT_EQ(g.num_points(), np + 1);
+  EXPECT_EQ(r.a, K);
+  EXPECT_EQ(r.b, np);
+  EXPECT_NEAR(r.m_a + r.m_b, m_K, 1e-15 * m_K);
+  EXPECT_NEAR(total_mass(g), mass, 1e-14 * mass);
+  EXPECT_LT((total_momentum(g) - p).norm(), 1e-14 * mass);
+  EXPECT_LT((r.F_a + r.F_b - F_K).norm(), 1e-9 * r.F_a.norm());
+  const Vec3 acc_a = (r.F_a + r.f0) / r.m_a, acc_b = (r.F_b - r.f0) / r.m_b;
+  EXPECT_LT((acc_a - acc_b).norm(), 1e-12 * acc_a.norm() + 1e-12 * (r.F_a / r.m_a).norm());
+  // Under the uniaxial pre-stress the daughters are pulled apart along y; f0 holds them.
+  EXPECT_GT(r.f0.y(), 0.0);
+  EXPECT_LT(std::hypot(r.f0.x(), r.f0.z()), 1e-6 * r.f0.norm());
+  EXPECT_GT(r.A_c, 0.0);
+  EXPECT_EQ(g.crack()[r.a], 1);
+  EXPECT_EQ(g.crack()[r.b], 1);
+  ASSERT_EQ(sim.fracture().links().size(), 1u);
+  const CohesiveLink& l = sim.fracture().links()[0];
+  EXPECT_NEAR(l.delta_c, 2 * r.A_c * s.material.gamma / r.f0.norm(), 1e-15);  // (3.8)
+  // Every cell that took b lies above the plane, every cell keeping a below it.
+  for (vtkIdType e = 0; e < g.num_cells(); ++e)
+    for (int k = 0; k < 4; ++k) {
+      const vtkIdType n = g.cells()[4 * e + k];
+      if (n != r.a && n != r.b) continue;
+      double y = 0;
+      for (int j = 0; j < 4; ++j) y += g.X()[3 * g.cells()[4 * e + j] + 1];
+      EXPECT_EQ(n == r.b, y > 0) << "cell " << e;
+    }
+}
+
+// Rate-independent link opened slowly and monotonically: dissipation = A_c gamma (3.7).
+TEST(Link, RateIndependentDissipatesSurfaceEnergy) {
+  const CohesiveLaw law{150.0, 0.0, 0.2};
+  CohesiveLink l = make_link(0, 1, Vec3(0, 8.0, 0), {{0, 1, 2.5e-7}}, law);
+  ASSERT_NEAR(l.delta_c, 2 * 2.5e-7 * 150.0 / 8.0, 1e-18);
+  const int steps = 1000;
+  const double dt = 1e-9;
+  for (int i = 1; !l.broken() && i < 2 * steps; ++i) {
+    advance_link(l, 1.3 * l.delta_c * i / steps, dt, law);
+    EXPECT_NEAR(l.omega, std::min(l.delta_max / l.delta_c, 1.0), 1e-12);  // (3.5)
+    EXPECT_GE(l.dissipated, 0.0);
+  }
+  ASSERT_TRUE(l.broken());
+  EXPECT_NEAR(l.dissipated, l.A_c * law.gamma, 0.01 * l.A_c * law.gamma);
+  EXPECT_EQ(l.f, 0.0);
+}
+
+// Unloading and reloading below delta_max is elastic: no dissipation, f back to the envelope.
+TEST(Link, UnloadingIsElastic) {
+  const CohesiveLaw law{150.0, 0.0, 0.2};
+  CohesiveLink l = make_link(0, 1, Vec3(8.0, 0, 0), {{0, 1, 2.5e-7}}, law);
+  for (int i = 1; i <= 100; ++i) advance_link(l, 0.4 * l.delta_c * i / 100, 1e-9, law);
+  const double D = l.dissipated, f_top = l.f;
+  for (int i = 99; i >= 0; --i) advance_link(l, 0.4 * l.delta_c * i / 100, 1e-9, law);
+  EXPECT_NEAR(l.f, 0.0, 1e-12);
+  for (int i = 1; i <= 100; ++i) advance_link(l, 0.4 * l.delta_c * i / 100, 1e-9, law);
+  EXPECT_NEAR(l.dissipated, D, 1e-12 * D);
+  EXPECT_NEAR(l.f, f_top, 1e-12 * f_top);
+}
+
+// With alpha > 0 and a constant opening rate, omega = <1 - alpha epsdot>^n epsdot t (4.4).
+TEST(Link, RateDependentFollowsClosedForm) {
+  const CohesiveLaw law{150.0, 9.35e-8, 0.2};
+  CohesiveLink l = make_link(0, 1, Vec3(0, 8.0, 0), {{0, 1, 2.5e-7}}, law);
+  const double eps_dot = 2e6;  // 1/s: alpha eps_dot = 0.187
+  const double dt = 1e-10;
+  for (int i = 1; i <= 2000; ++i) {
+    const double t = i * dt;
+    advance_link(l, eps_dot * t * l.delta_c, dt, law);
+    const double expected = std::min(std::pow(1 - law.alpha * eps_dot, law.n) * eps_dot * t, 1.0);
+    ASSERT_NEAR(l.omega, expected, 1e-9) << "t = " << t;
+  }
+  // Above alpha eps_dot = 1 the link does not degrade at all while it opens.
+  CohesiveLink fast = make_link(0, 1, Vec3(0, 8.0, 0), {{0, 1, 2.5e-7}}, law);
+  advance_link(fast, 2.0 / law.alpha * dt * fast.delta_c, dt, law);
+  EXPECT_EQ(fast.omega, 0.0);
+}
+
+// Granddaughters (Appendix A): (A.2) f01 + f02 = f0, (A.3) f01/m1 = f02/m2,
+// (A.4) f01 dc1 / 2 + f02 dc2 / 2 = f0 dc / 2 = A_c gamma; delta, delta_max, omega copied.
+TEST(Link, GranddaughtersConserveForceAccelerationAndEnergy) {
+  const CohesiveLaw law{150.0, 0.0, 0.2};
+  CohesiveLink l = make_link(10, 20, Vec3(1.0, 7.0, 0.5),
+                             {{100, 200, 1e-7}, {101, 201, 2e-7}, {102, 202, 0.5e-7}}, law);
+  for (int i = 1; i <= 30; ++i) advance_link(l, 0.01 * l.delta_c * i, 1e-9, law);
+  const CohesiveLink parent = l;
+  const double m1 = 3e-8, m2 = 5e-8;
+  // Node 10 (side a) splits; cells 101 and 102 adopt the new node 30.
+  const CohesiveLink part = split_link(l, 10, 30, m1, m2, {101, 102}, law);
+  EXPECT_EQ(part.a, 30);
+  EXPECT_EQ(part.b, 20);
+  EXPECT_EQ(l.a, 10);
+  EXPECT_DOUBLE_EQ(l.f0 + part.f0, parent.f0);                     // (A.2)
+  EXPECT_NEAR(l.f0 / m1, part.f0 / m2, 1e-14 * parent.f0 / m1);     // (A.3)
+  EXPECT_NEAR(0.5 * l.f0 * l.delta_c + 0.5 * part.f0 * part.delta_c, parent.A_c * law.gamma,
+              1e-14 * parent.A_c * law.gamma);                      // (A.4)
+  EXPECT_NEAR(0.5 * parent.f0 * parent.delta_c, parent.A_c * law.gamma, 1e-14);
+  EXPECT_DOUBLE_EQ(l.A_c, 1e-7);
+  EXPECT_DOUBLE_EQ(part.A_c, 2.5e-7);
+  for (const CohesiveLink* c : std::initializer_list<const CohesiveLink*>{&l, &part}) {
+    EXPECT_EQ(c->delta, parent.delta);
+    EXPECT_EQ(c->delta_max, parent.delta_max);
+    EXPECT_EQ(c->omega, parent.omega);
+    EXPECT_EQ(c->e0, parent.e0);
+  }
+  EXPECT_NEAR(l.f + part.f, parent.f, 1e-15 * parent.f);
+  EXPECT_NEAR(l.stored() + part.stored(), parent.stored(), 1e-15 * parent.stored());
+}
+
+/// Every cell has positive reference volume, every point is used, the VTU re-reads.
+void expect_valid_grid(const Grid& g, const std::string& name) {
+  std::vector<char> used(g.num_points(), 0);
+  for (vtkIdType e = 0; e < g.num_cells(); ++e) {
+    const vtkIdType* n = g.cells() + 4 * e;
+    Mat3 Dm;
+    for (int k = 0; k < 3; ++k) Dm.col(k) = Vec3(g.X() + 3 * n[k + 1]) - Vec3(g.X() + 3 * n[0]);
+    ASSERT_GT(Dm.determinant(), 0.0) << "cell " << e;
+    for (int k = 0; k < 4; ++k) used[n[k]] = 1;
+  }
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "orphaned points";
+  const fs::path dir = fs::temp_directory_path() / ("brittle_" + name);
+  fs::create_directories(dir);
+  const std::string file = (dir / "grid.vtu").string();
+  auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+  writer->SetInputData(g.vtk());
+  writer->SetFileName(file.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), g.num_points());
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), g.num_cells());
+}
+
+// Straight mode, CM, 0.9 sigma_c, rate-independent links: every split node lies on y = 0
+// at x >= a, the tip never moves back and reaches x = L; the new surface is the whole
+// ligament, both faces, and the links dissipate A_c gamma for it (3.7).
+TEST(Straight, CrackRunsAlongTheMidPlaneToTheFarEdge) {
+  Scene s = fracture_scene(FractureParams::Mode::straight, 40e-6);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const RunSummary summary = sim.run({});
+  const Grid& g = sim.grid();
+  long on_crack = 0;
+  for (vtkIdType p = 0; p < g.num_points(); ++p) {
+    if (!g.crack()[p]) continue;
+    ++on_crack;
+    EXPECT_NEAR(g.X()[3 * p + 1], 0.0, 1e-12);
+    EXPECT_GE(g.X()[3 * p], s.geometry.notch_depth - 1e-12);
+  }
+  EXPECT_EQ(on_crack, 2 * summary.splits);
+  const auto& tips = sim.tip_samples();
+  for (std::size_t i = 1; i < tips.size(); ++i) ASSERT_GE(tips[i].x, tips[i - 1].x);
+  EXPECT_DOUBLE_EQ(summary.tip_x, s.geometry.L);
+  const double ligament = 2 * (s.geometry.L - s.geometry.notch_depth) * s.geometry.T;
+  EXPECT_NEAR(summary.crack_area, ligament, 1e-9 * ligament);
+  EXPECT_EQ(summary.live_links, 0);
+  const double surface_energy = s.material.gamma * summary.crack_area;
+  EXPECT_NEAR(summary.final_energies.cohesive_dissipated, surface_energy, 0.01 * surface_energy);
+  std::cout << "[ straight CM 0.9 ] steady speed " << summary.crack_speed.speed << " m/s over "
+            << summary.crack_speed.samples << " samples, r2 " << summary.crack_speed.r2
+            << ", max imbalance " << summary.max_relative_imbalance << "\n";
+  expect_valid_grid(g, "straight");
+}
+
+// Branching mode, CM, 0.9 sigma_c: runs to the end with no inverted element, leaves a valid
+// grid; where the crack went is reported.
+TEST(Branching, RunsToCompletionOnCoarseMesh) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 30e-6);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  RunSummary summary;
+  ASSERT_NO_THROW(summary = sim.run({}));
+  EXPECT_EQ(summary.status, "completed");
+  EXPECT_GT(summary.splits, 0);
+  const Grid& g = sim.grid();
+  double y_min = 0, y_max = 0;
+  for (vtkIdType p = 0; p < g.num_points(); ++p)
+    if (g.crack()[p]) y_min = std::min(y_min, g.X()[3 * p + 1]), y_max = std::max(y_max, g.X()[3 * p + 1]);
+  std::cout << "[ branching CM 0.9 ] " << summary.splits << " splits, tip at x = "
+            << summary.tip_x * 1e3 << " mm, y = " << summary.tip_y * 1e3
+            << " mm; split nodes span y in [" << y_min * 1e3 << ", " << y_max * 1e3
+            << "] mm; max imbalance " << summary.max_relative_imbalance << "\n";
+  expect_valid_grid(g, "branching");
+}
+
+}  // namespace
+}  // namespace brittle
