@@ -52,6 +52,9 @@ class Progress : public brittle::Observer {
     std::fprintf(stderr, "\r  step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s   ",
                  sim.steps(), sim.time() * 1e6, 100 * fraction, tip * 1e3, f.splits(), eta);
   }
+  void on_warning(const brittle::Simulation&, const std::string& message) override {
+    std::fprintf(stderr, "%sbrittle: warning: %s\n", tty_ ? "\n" : "", message.c_str());
+  }
   void on_finish(const brittle::Simulation&, const brittle::RunSummary& s) override {
     if (tty_) std::fputc('\n', stderr);
     std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n",

@@ -179,6 +179,7 @@ using GP = GeometryParams;
 using MeP = MeshParams;
 using RP = RunParams;
 using FP = FractureParams;
+using DP = DamageParams;
 using OP = OutputParams;
 
 /// THE table: every scene key, in the order --help and docs/scenes.md list them.
@@ -276,6 +277,26 @@ const std::vector<Key>& scene_keys() {
                       "steady crack speed is fitted from this time on", ">= 0", non_negative));
     k.push_back(field("fracture.speed_edge_margin", &Scene::fracture, &FP::speed_edge_margin, "m",
                       "... until the tip is this close to x = L", ">= 0", non_negative));
+    // [damage] — continuum damage (SPEC 6, paper section 5)
+    k.push_back(field("damage.beta1", &Scene::damage, &DP::beta1, "1/s",
+                      "damage rate (5.2); 0 = no damage, paper: 5e6", ">= 0", non_negative));
+    k.push_back(field("damage.beta2", &Scene::damage, &DP::beta2, "", "(5.3); paper: 10", ">= 0",
+                      non_negative));
+    k.push_back(field("damage.beta3", &Scene::damage, &DP::beta3, "",
+                      "damage threshold as a fraction of sigma_c (5.3); paper: 0.95", "0 < b3 < 1",
+                      [](const double& v) { return v > 0 && v < 1; }));
+    k.push_back(typed<double>(
+        "damage.Omega_d0", "", "largest damage (5.3)",
+        "0 <= Omega_d0 < 1; unset = 1 - (v_inf/v_R)^2 (6.6) = 0.445", std::nullopt, "(from v_inf, v_R)",
+        [](const double& v, const Source&, Scene& scene) {
+          if (!(v >= 0 && v < 1)) return Verdict::out_of_range;
+          scene.damage.Omega_d0 = v;
+          return Verdict::ok;
+        }));
+    k.push_back(field("damage.v_inf", &Scene::damage, &DP::v_inf, "m/s",
+                      "limiting crack speed of the Zhou fit, for Omega_d0 (6.6)", "> 0", positive));
+    k.push_back(field("damage.v_R", &Scene::damage, &DP::v_R, "m/s",
+                      "Rayleigh speed, for Omega_d0 (6.6)", "> damage.v_inf", positive));
     // [run]
     k.push_back(
         field("run.end_time", &Scene::run, &RP::end_time, "s", "simulated time", "> 0", positive));
@@ -315,6 +336,10 @@ const std::vector<Key>& scene_keys() {
                       "true/false (also yes/no, on/off, 1/0)", [](const bool&) { return true; }));
     k.push_back(field("output.energy_interval", &Scene::output, &OP::energy_interval, "s",
                       "energies.csv row every this much simulated time", "> 0", positive));
+    k.push_back(field("output.imbalance_warning", &Scene::output, &OP::imbalance_warning, "",
+                      "warn once when the energy budget is off by more than this fraction of "
+                      "the initial energy",
+                      "> 0", positive));
     return k;
   }();
   return keys;
@@ -338,7 +363,7 @@ bool is_known_section(const std::string& section) {
 
 /// Sections that later issues will fill; until one has keys in the table, it is rejected.
 const std::set<std::string>& reserved_sections() {
-  static const std::set<std::string> s = {"damage", "render"};
+  static const std::set<std::string> s = {"render"};
   return s;
 }
 
@@ -523,6 +548,11 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                 ": load sigma = ", format_double(sigma),
                 " Pa is out of range (expected < 3K = E/(1-2nu) = ", format_double(three_K),
                 " Pa, else the uniaxial pre-stress has no solution)");
+
+  const DamageParams& d = s.damage;
+  BRITTLE_CHECK(d.v_inf < d.v_R, o.latest({"damage.v_inf", "damage.v_R"}),
+                ": damage.v_inf = ", format_double(d.v_inf), " m/s is out of range (expected < "
+                "damage.v_R = ", format_double(d.v_R), " m/s, so that Omega_d0 (6.6) lies in (0, 1))");
 
   if (!s.mesh.file.empty()) {
     const std::string who = o.latest({"mesh.file"});

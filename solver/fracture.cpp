@@ -43,7 +43,9 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   const std::int32_t* entries = forces.node_entries().data();
   const double *bound = forces.sigma1_bound(), *volume = forces.volumes(), *stress = grid.stress();
   const std::uint8_t* fixed = grid.fixed();
-  const double sigma_c = sigma_c_;
+  // "sigma1 reaches sigma_c" up to round-off: a plate loaded to exactly sigma_c holds T_yy =
+  // sigma_c to ~1e-15 everywhere, and that uniform state must not break every node at once.
+  const double sigma_c = sigma_c_ * (1.0 + 1e-9);
 
 #pragma omp parallel
   {

@@ -140,8 +140,8 @@ std::vector<PvdEntry> read_pvd(const std::string& path) {
 EnergyCsvWriter::EnergyCsvWriter(const std::string& directory)
     : out_(directory + "/energies.csv", std::ios::trunc) {
   BRITTLE_CHECK(out_, "output: cannot write '", directory, "/energies.csv'");
-  out_ << "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,total,"
-          "relative_imbalance\n";
+  out_ << "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,"
+          "damage_dissipated,total,relative_imbalance\n";
 }
 
 void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
@@ -149,7 +149,7 @@ void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
   const double imbalance = initial_ > 0 ? (e.total() - initial_) / initial_ : 0.0;
   out_ << std::setprecision(12) << e.time << ',' << e.kinetic << ',' << e.elastic << ','
        << e.viscous_dissipated << ',' << e.cohesive_stored << ',' << e.cohesive_dissipated << ','
-       << e.total() << ',' << imbalance << '\n';
+       << e.damage_dissipated << ',' << e.total() << ',' << imbalance << '\n';
   out_.flush();
 }
 
@@ -199,6 +199,8 @@ void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
     << "  \"viscous_dissipated\": " << e.viscous_dissipated << ",\n"
     << "  \"cohesive_stored\": " << e.cohesive_stored << ",\n"
     << "  \"cohesive_dissipated\": " << e.cohesive_dissipated << ",\n"
+    << "  \"damage_dissipated\": " << e.damage_dissipated << ",\n"
+    << "  \"warnings\": " << s.warnings.size() << ",\n"
     << "  \"max_relative_imbalance\": " << s.max_relative_imbalance << ",\n"
     << "  \"splits\": " << s.splits << ",\n"
     << "  \"live_links\": " << s.live_links << ",\n"

@@ -55,6 +55,21 @@ struct FractureParams {
   double speed_edge_margin = 2e-3;    ///< ... until the tip is this close to x = L [m]
 };
 
+/// Continuum damage (SPEC 6, paper section 5). beta1 = 0 switches it off.
+struct DamageParams {
+  double beta1 = 0.0;    ///< rate [1/s] (5.2); paper 5e6
+  double beta2 = 10.0;   ///< (5.3)
+  double beta3 = 0.95;   ///< threshold as a fraction of sigma_c (5.3)
+  double Omega_d0 = std::numeric_limits<double>::quiet_NaN();  ///< NaN: from v_inf, v_R (6.6)
+  double v_inf = 675.0;  ///< limiting crack speed of the Zhou fit [m/s] (1.1)
+  double v_R = 906.0;    ///< Rayleigh speed the paper uses [m/s] (6.2)
+  /// Omega_d0, or 1 - (v_inf / v_R)^2 (6.6) when not given.
+  double limit() const {
+    return std::isnan(Omega_d0) ? 1.0 - (v_inf / v_R) * (v_inf / v_R) : Omega_d0;
+  }
+  bool enabled() const { return beta1 > 0.0; }
+};
+
 struct RunParams {
   double end_time = 30e-6;  ///< simulated time [s]
   double cfl = 0.5;         ///< fraction of the stable time step
@@ -67,6 +82,7 @@ struct OutputParams {
   std::vector<double> frame_times;    ///< explicit frame times [s]; overrides frame_interval
   bool vtu = true;                    ///< write VTU frames + PVD
   double energy_interval = 0.1e-6;    ///< energies.csv row every this much simulated time [s]
+  double imbalance_warning = 0.02;    ///< warn once when |E(t) - E(0)| / E(0) exceeds this
 };
 
 struct Scene {
@@ -75,6 +91,7 @@ struct Scene {
   MeshParams mesh;
   LoadingParams loading;
   FractureParams fracture;
+  DamageParams damage;
   RunParams run;
   OutputParams output;
   std::vector<std::string> sources;  ///< the INI files and --set overrides it came from

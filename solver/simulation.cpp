@@ -12,6 +12,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 
+#include "damage.hpp"
 #include "error.hpp"
 
 namespace brittle {
@@ -83,6 +84,10 @@ void Simulation::step() {
       assembler_.gather(grid_, force_);
     }
   }
+  // Damage grows from the stresses just computed; it weakens the elements from the next step.
+  if (scene_.damage.enabled())
+    damage_dissipated_ += update_damage(grid_, elements_, assembler_, constants_,
+                                        scene_.material.sigma_c, scene_.damage, dt, damage_blocks_);
   {
     const vtkIdType np = grid_.num_points();
     double* v = grid_.v();
@@ -129,6 +134,7 @@ Energies Simulation::energies() const {
   e.viscous_dissipated = viscous_dissipated_;
   e.cohesive_stored = fracture_.stored_energy();
   e.cohesive_dissipated = fracture_.dissipated_energy();
+  e.damage_dissipated = damage_dissipated_;
   return e;
 }
 
@@ -184,10 +190,15 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   auto emit = [&]() {
     if (due(next_energy)) {
       const Energies e = energies();
-      if (summary.initial_elastic > 0)
-        summary.max_relative_imbalance =
-            std::max(summary.max_relative_imbalance,
-                     std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic);
+      const double imbalance = std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic;
+      summary.max_relative_imbalance = std::max(summary.max_relative_imbalance, imbalance);
+      if (imbalance > scene_.output.imbalance_warning && summary.warnings.empty()) {
+        summary.warnings.push_back(error_message(
+            "energy budget off by ", 100 * imbalance, " % of the initial energy at t = ", time_,
+            " s (threshold ", 100 * scene_.output.imbalance_warning,
+            " %): the step may be too large (run.cfl) or a mechanism is mis-accounted"));
+        for (Observer* o : observers) o->on_warning(*this, summary.warnings.back());
+      }
       for (Observer* o : observers) o->on_energy(*this, e);
       const bool split = fracture_.splits() > 0;
       tip_samples_.push_back({time_, split ? fracture_.tip_x() : scene_.geometry.notch_depth,

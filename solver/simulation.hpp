@@ -24,8 +24,10 @@ struct Energies {
   double viscous_dissipated = 0;  ///< integral of sum v T_v : D dt
   double cohesive_stored = 0;     ///< sum of f delta / 2 over live links (3.1)
   double cohesive_dissipated = 0; ///< integral of D_c (3.3), removed links included
+  double damage_dissipated = 0;   ///< integral of sum V0 rho0 Sigma* dOmega (5.1)
   double total() const {
-    return kinetic + elastic + viscous_dissipated + cohesive_stored + cohesive_dissipated;
+    return kinetic + elastic + viscous_dissipated + cohesive_stored + cohesive_dissipated +
+           damage_dissipated;
   }
 };
 
@@ -39,6 +41,7 @@ struct RunSummary {
   double tet_updates_per_second = 0;
   double initial_elastic = 0;
   double max_relative_imbalance = 0;  ///< max |E(t) - E(0)| / E(0) over energy rows
+  std::vector<std::string> warnings;
   Energies final_energies;
   long splits = 0, live_links = 0;
   double crack_area = 0;            ///< sum of A_c, both faces
@@ -59,6 +62,8 @@ class Observer {
   virtual void on_frame(const Simulation&) {}  ///< output fields of the grid are up to date
   virtual void on_energy(const Simulation&, const Energies&) {}
   virtual void on_finish(const Simulation&, const RunSummary&) {}
+  /// Something a person should look at (e.g. the energy budget no longer balances).
+  virtual void on_warning(const Simulation&, const std::string&) {}
 };
 
 class Simulation {
@@ -113,7 +118,8 @@ class Simulation {
   std::vector<TipSample> tip_samples_;
   double dt_ = 0, time_ = 0;
   long steps_ = 0;
-  double viscous_dissipated_ = 0;
+  double viscous_dissipated_ = 0, damage_dissipated_ = 0;
+  std::vector<double> damage_blocks_;
 };
 
 }  // namespace brittle
