@@ -1,0 +1,203 @@
+// Load sweeps: parallel `brittle run` processes, results collected into sweep.csv.
+#include "sweep.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
+#include "error.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace brittle {
+namespace {
+
+double number(const std::string& token, const std::string& text) {
+  double v = 0;
+  const char* end = token.data() + token.size();
+  auto [last, ec] = std::from_chars(token.data(), end, v);
+  BRITTLE_CHECK(ec == std::errc() && last == end && std::isfinite(v), "--loads '", text,
+                "': '", token, "' is not a number (expected first:last:step or a comma list)");
+  return v;
+}
+
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> parts;
+  std::stringstream s(text);
+  std::string part;
+  while (std::getline(s, part, sep)) parts.push_back(part);
+  return parts;
+}
+
+std::string load_label(double load) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << load;
+  return s.str();
+}
+
+/// This executable, to run the sweep's members with the same code.
+std::string self_executable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  BRITTLE_CHECK(!ec, "sweep: cannot find the brittle executable (/proc/self/exe)");
+  return p.string();
+}
+
+/// Starts `exe args...` with stdout and stderr into `log`; returns its pid.
+pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(exe.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  BRITTLE_CHECK(rc == 0, "sweep: cannot start '", exe, "' (error ", rc, ")");
+  return pid;
+}
+
+}  // namespace
+
+std::vector<double> parse_loads(const std::string& text) {
+  std::vector<double> loads;
+  const auto range = split(text, ':');
+  if (range.size() == 3) {
+    const double first = number(range[0], text), last = number(range[1], text),
+                 step = number(range[2], text);
+    BRITTLE_CHECK(step > 0 && last >= first, "--loads '", text,
+                  "': expected first:last:step with step > 0 and last >= first");
+    const long n = std::lround(std::floor((last - first) / step + 1e-9));
+    for (long k = 0; k <= n; ++k) loads.push_back(first + k * step);
+  } else {
+    BRITTLE_CHECK(range.size() == 1, "--loads '", text, "': expected first:last:step or a comma list");
+    for (const std::string& token : split(text, ','))
+      if (!token.empty()) loads.push_back(number(token, text));
+  }
+  BRITTLE_CHECK(!loads.empty(), "--loads '", text, "': no load given");
+  for (double l : loads)
+    BRITTLE_CHECK(l > 0 && l < 3, "--loads '", text, "': load ", l,
+                  " is out of range (expected 0 < sigma/sigma_c < 3)");
+  return loads;
+}
+
+SweepPoint read_run(const std::string& directory) {
+  SweepPoint p;
+  p.directory = directory;
+  const std::string summary = directory + "/summary.json";
+  if (!fs::exists(summary)) {
+    p.status = "failed: no summary.json (see run.log)";
+    return p;
+  }
+  boost::property_tree::ptree json;
+  try {
+    boost::property_tree::read_json(summary, json);
+  } catch (const std::exception& e) {
+    throw Error(error_message("sweep: '", summary, "' cannot be read: ", e.what()));
+  }
+  auto value = [&](const char* key) {
+    const auto text = json.get<std::string>(key, "null");
+    return text == "null" ? std::nan("") : std::stod(text);
+  };
+  p.status = json.get<std::string>("status", "unknown");
+  p.load = value("sigma_over_sigmac");
+  p.W = value("W");
+  p.fitted_speed = value("crack_speed");
+  p.r2 = value("crack_speed_r2");
+  p.samples = static_cast<int>(value("crack_speed_samples"));
+  p.tip_x = value("tip_x");
+  p.zhou_speed = value("zhou_speed");
+  // Arrest: the tip stopped short of the far edge. Read the tip series: it did not move
+  // over the last 5 us of the run although it is more than the speed window's margin away
+  // from x = L, or nothing split at all.
+  const double reach = value("speed_stop_x");
+  std::ifstream csv(directory + "/crack_tip.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::vector<std::pair<double, double>> tip;
+  while (std::getline(csv, line)) {
+    const auto cells = split(line, ',');
+    if (cells.size() >= 2) tip.emplace_back(std::stod(cells[0]), std::stod(cells[1]));
+  }
+  if (!tip.empty() && tip.back().second < reach) {
+    const double t_end = tip.back().first;
+    double x_then = tip.front().second;
+    for (const auto& [t, x] : tip)
+      if (t <= t_end - 5e-6) x_then = x;
+    p.arrested = tip.back().second <= x_then;
+  }
+  p.speed = p.arrested ? 0.0 : p.fitted_speed;
+  return p;
+}
+
+void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& points) {
+  std::ofstream out(path + ".tmp", std::ios::trunc);
+  BRITTLE_CHECK(out, "sweep: cannot write '", path, "'");
+  out << "sigma_over_sigmac,W,speed,fitted_speed,fit_r2,fit_samples,arrested,tip_x,zhou_speed,"
+         "status,directory\n"
+      << std::setprecision(10);
+  for (const SweepPoint& p : points)
+    out << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed << ',' << p.r2 << ','
+        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ','
+        << p.zhou_speed << ',' << '"' << p.status << '"' << ',' << p.directory << '\n';
+  out.close();
+  fs::rename(path + ".tmp", path);
+}
+
+std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
+  BRITTLE_CHECK(!o.scenes.empty(), "brittle sweep: no scene file given");
+  fs::create_directories(o.out);
+  const std::string exe = self_executable();
+  const int jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::string> dirs;
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  auto start_next = [&] {
+    const double load = o.loads[next];
+    const std::string dir = o.out + "/load_" + load_label(load);
+    fs::create_directories(dir);
+    std::vector<std::string> args = {"run"};
+    args.insert(args.end(), o.scenes.begin(), o.scenes.end());
+    for (const std::string& s : o.sets) args.insert(args.end(), {"--set", s});
+    args.insert(args.end(), {"--set", "loading.sigma_over_sigmac=" + load_label(load), "--set",
+                             "run.threads=1", "--out", dir});
+    if (!o.frames) args.insert(args.end(), {"--set", "output.vtu=false"});
+    fs::remove(dir + "/summary.json");
+    running[spawn(exe, args, dir + "/run.log")] = next;
+    dirs.push_back(dir);
+    ++next;
+  };
+  while (next < o.loads.size() || !running.empty()) {
+    while (next < o.loads.size() && static_cast<int>(running.size()) < jobs) start_next();
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    BRITTLE_CHECK(pid > 0, "sweep: waiting for the runs failed");
+    running.erase(pid);
+  }
+  std::vector<SweepPoint> points;
+  for (const std::string& dir : dirs) points.push_back(read_run(dir));
+  write_sweep_csv(o.out + "/sweep.csv", points);
+  return points;
+}
+
+}  // namespace brittle

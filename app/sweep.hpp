@@ -1,0 +1,49 @@
+// Load sweeps (paper Figs. 5-6): one straight-crack run per load, in parallel processes,
+// collected into sweep.csv (load, W, steady speed, fit quality, arrest).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace brittle {
+
+struct SweepOptions {
+  std::vector<std::string> scenes;  ///< INI files, as for `brittle run`
+  std::vector<std::string> sets;    ///< section.key=value overrides, as for `brittle run`
+  std::vector<double> loads;        ///< sigma / sigma_c of each run
+  int jobs = 0;                     ///< processes at once (0 = number of cores)
+  std::string out;                  ///< directory: one run directory per load + sweep.csv
+  bool frames = false;              ///< keep the VTU frames of every run
+};
+
+/// One run of the sweep, read back from its summary.json and crack_tip.csv.
+struct SweepPoint {
+  double load = 0;          ///< sigma / sigma_c
+  double W = 0;             ///< H sigma^2 / (2E) [N/m]
+  double speed = 0;         ///< steady speed [m/s]; 0 when the crack arrested
+  double fitted_speed = 0;  ///< least-squares slope over the window, whatever happened
+  double r2 = 0;            ///< quality of that fit
+  int samples = 0;
+  bool arrested = false;    ///< the tip stopped short of the far edge
+  double tip_x = 0;         ///< final tip [m]
+  double zhou_speed = 0;    ///< the Zhou et al. fit (1.1) at W [m/s]
+  std::string status;       ///< the run's status ("completed" or "failed: ...")
+  std::string directory;    ///< the run's output directory
+};
+
+/// "0.4:1.0:0.05" (first:last:step, last included) or "0.6,0.9" -> loads; throws
+/// brittle::Error with a one-line message on malformed text.
+std::vector<double> parse_loads(const std::string& text);
+
+/// Runs `brittle run` (this executable) once per load with run.threads = 1, at most `jobs`
+/// at a time, each into <out>/load_<load>/ with its log in run.log; then reads the results
+/// back and writes <out>/sweep.csv. A failed run is reported in its row, not thrown.
+std::vector<SweepPoint> run_sweep(const SweepOptions& options);
+
+/// Reads the results of one finished run directory (summary.json, crack_tip.csv).
+SweepPoint read_run(const std::string& directory);
+
+/// Writes the rows (and a header) as CSV.
+void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& points);
+
+}  // namespace brittle
