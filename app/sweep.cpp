@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include <boost/program_options.hpp>
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 
@@ -198,6 +199,48 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
   for (const std::string& dir : dirs) points.push_back(read_run(dir));
   write_sweep_csv(o.out + "/sweep.csv", points);
   return points;
+}
+
+int sweep_command(const std::vector<std::string>& args) {
+  namespace po = boost::program_options;
+  SweepOptions o;
+  std::string loads;
+  po::options_description opts("brittle sweep options");
+  opts.add_options()("help,h", "show this help")(
+      "loads", po::value(&loads)->required(),
+      "loads sigma/sigma_c: first:last:step (last included) or a comma list")(
+      "set", po::value(&o.sets)->composing(), "override one key: section.key=value (repeatable)")(
+      "jobs", po::value(&o.jobs)->default_value(0), "runs at once (0 = number of cores)")(
+      "out", po::value(&o.out)->default_value("out/sweep"), "output directory")(
+      "frames", po::bool_switch(&o.frames), "keep every run's VTU frames")(
+      "scene", po::value(&o.scenes)->composing(), "scene INI files, later ones override earlier");
+  po::positional_options_description positional;
+  positional.add("scene", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::printf("usage: brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set k=v ...] "
+                "[--jobs N] [--out DIR] [--frames]\n");
+    std::ostringstream text;
+    text << opts;
+    std::printf("%s", text.str().c_str());
+    return 0;
+  }
+  po::notify(vm);
+  o.loads = parse_loads(loads);
+  BRITTLE_CHECK(o.jobs >= 0, "--jobs ", o.jobs, " is out of range (expected >= 0)");
+  const auto points = run_sweep(o);
+  bool all_completed = true;
+  for (const SweepPoint& p : points) {
+    std::printf("sigma/sigma_c = %.3f  W = %7.0f N/m  speed = %6.1f m/s  (fit r2 %.3f)%s  Zhou fit "
+                "%5.1f m/s  %s\n",
+                p.load, p.W, p.speed, p.r2, p.arrested ? "  arrested" : "", p.zhou_speed,
+                p.status.c_str());
+    all_completed = all_completed && p.status == "completed";
+  }
+  std::printf("wrote %s/sweep.csv\n", o.out.c_str());
+  BRITTLE_CHECK(all_completed, "sweep: some runs failed (see sweep.csv and their run.log)");
+  return 0;
 }
 
 }  // namespace brittle

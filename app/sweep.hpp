@@ -43,6 +43,10 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& options);
 /// Reads the results of one finished run directory (summary.json, crack_tip.csv).
 SweepPoint read_run(const std::string& directory);
 
+/// `brittle sweep SCENE.ini [MORE.ini ...] --loads SPEC [--set k=v ...] [--jobs N]
+/// [--out DIR] [--frames]`: runs the sweep and prints one line per load; 0 on success.
+int sweep_command(const std::vector<std::string>& args);
+
 /// Writes the rows (and a header) as CSV.
 void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& points);
 

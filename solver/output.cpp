@@ -211,6 +211,7 @@ void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
     << "  \"crack_speed_samples\": " << s.crack_speed.samples << ",\n"
     << "  \"crack_speed_window\": [" << s.crack_speed.t_begin << ", " << s.crack_speed.t_end << "],\n"
     << "  \"crack_speed_r2\": " << json_number(s.crack_speed.r2) << ",\n"
+    << "  \"speed_stop_x\": " << s.speed_stop_x << ",\n"
     << "  \"W\": " << s.W << ",\n"
     << "  \"zhou_speed\": " << s.zhou_speed << "\n"
     << "}\n";

@@ -236,8 +236,9 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.crack_area = fracture_.crack_area();
   summary.live_links = static_cast<long>(fracture_.links().size());
   if (!tip_samples_.empty()) summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
-  summary.crack_speed = steady_speed(tip_samples_, scene_.fracture.speed_window_start,
-                                     scene_.geometry.L - scene_.fracture.speed_edge_margin);
+  summary.speed_stop_x = scene_.geometry.L - scene_.fracture.speed_edge_margin;
+  summary.crack_speed =
+      steady_speed(tip_samples_, scene_.fracture.speed_window_start, summary.speed_stop_x);
   summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
   summary.zhou_speed = zhou_speed(summary.W);
   for (Observer* o : observers) o->on_finish(*this, summary);

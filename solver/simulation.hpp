@@ -47,6 +47,7 @@ struct RunSummary {
   double crack_area = 0;            ///< sum of A_c, both faces
   double tip_x = 0, tip_y = 0;      ///< final crack tip (reference coordinates)
   SpeedFit crack_speed;             ///< steady speed over the window of SPEC 5
+  double speed_stop_x = 0;          ///< the window ends when the tip passes this x
   double W = 0;                     ///< H sigma^2 / (2E)
   double zhou_speed = 0;            ///< speed of the Zhou et al. fit (1.1) at W
 };
