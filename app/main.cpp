@@ -17,6 +17,7 @@
 #include "plate_mesh.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
+#include "sweep.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -26,6 +27,8 @@ namespace {
 const char* kUsage =
     "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
     "       brittle run --help      (every scene key with default, unit and meaning)\n"
+    "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
+    "[--out DIR]\n"
     "       brittle --version\n";
 
 /// Progress on stderr (steps, simulated time, ETA), only when stderr is a terminal.
@@ -127,6 +130,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (args[0] == "run") return run_command({args.begin() + 1, args.end()});
+    if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;
   } catch (const std::exception& e) {
