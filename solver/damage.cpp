@@ -8,13 +8,11 @@ namespace brittle {
 double update_damage(Grid& grid, const ElementData& el, const ForceAssembler& forces,
                      const ElasticConstants& c, double sigma_c, const DamageParams& p, double dt,
                      std::vector<double>& block_sums) {
-  using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
   constexpr vtkIdType kBlock = 4096;
   const vtkIdType ne = grid.num_cells();
   const vtkIdType blocks = (ne + kBlock - 1) / kBlock;
   block_sums.assign(blocks, 0.0);
-  const double *bound = forces.sigma1_bound(), *stress = grid.stress(), *x = grid.x();
-  const vtkIdType* cells = grid.cells();
+  const double *bound = forces.sigma1_bound(), *stress = grid.stress();
   double* Omega = grid.damage();
   const double threshold = p.beta3 * sigma_c;
 
@@ -32,11 +30,7 @@ double update_damage(Grid& grid, const ElementData& el, const ForceAssembler& fo
           advance_damage(Omega[e], damage_target(eig.eigenvalues()[2], sigma_c, p), p.beta1, dt);
       if (Omega_new == Omega[e]) continue;
       // dissipation V0 rho0 Sigma* dOmega at the deformation the stress was computed at
-      const vtkIdType* n = cells + 4 * e;
-      Mat3 Ds;
-      for (int k = 0; k < 3; ++k)
-        for (int d = 0; d < 3; ++d) Ds(d, k) = x[3 * n[k + 1] + d] - x[3 * n[0] + d];
-      const Mat3 F = Ds * Eigen::Map<const RowMat3>(el.Dm_inv.data() + 9 * e);
+      const Mat3 F = deformation_gradient(grid, el, e);
       dissipated += el.V0[e] * strain_energy_density(F, c.K, c.mu, 0.0) * (Omega_new - Omega[e]);
       Omega[e] = Omega_new;
     }

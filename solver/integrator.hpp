@@ -19,6 +19,9 @@ struct ElementData {
   std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
 };
 
+/// F = Ds Dm^-1 of element e at the grid's current positions (outside the step loop).
+Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e);
+
 /// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
 /// brittle::Error for a cell with non-positive reference volume.
 ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const MaterialParams& m);

@@ -116,21 +116,14 @@ void Simulation::step() {
 Energies Simulation::energies() const {
   Energies e;
   e.time = time_;
-  const double *v = grid_.v(), *m = grid_.mass(), *x = grid_.x();
+  const double *v = grid_.v(), *m = grid_.mass();
   for (vtkIdType i = 0; i < grid_.num_points(); ++i)
     e.kinetic += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] +
                                v[3 * i + 2] * v[3 * i + 2]);
-  const vtkIdType* cells = grid_.cells();
   const double* Omega = grid_.damage();
-  using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-  for (vtkIdType c = 0; c < grid_.num_cells(); ++c) {
-    const vtkIdType* n = cells + 4 * c;
-    Mat3 Ds;
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) Ds(d, k) = x[3 * n[k + 1] + d] - x[3 * n[0] + d];
-    const Mat3 F = Ds * Eigen::Map<const RowMat3>(elements_.Dm_inv.data() + 9 * c);
-    e.elastic += elements_.V0[c] * strain_energy_density(F, constants_.K, constants_.mu, Omega[c]);
-  }
+  for (vtkIdType c = 0; c < grid_.num_cells(); ++c)
+    e.elastic += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
+                                                         constants_.K, constants_.mu, Omega[c]);
   e.viscous_dissipated = viscous_dissipated_;
   e.cohesive_stored = fracture_.stored_energy();
   e.cohesive_dissipated = fracture_.dissipated_energy();
