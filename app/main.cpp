@@ -15,6 +15,7 @@
 #include "error.hpp"
 #include "output.hpp"
 #include "plate_mesh.hpp"
+#include "render_commands.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
 #include "sweep.hpp"
@@ -27,6 +28,10 @@ namespace {
 const char* kUsage =
     "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
     "       brittle run --help      (every scene key with default, unit and meaning)\n"
+    "       brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T,...] [--field F ...] "
+    "[--set render.key=value ...] [--out DIR]\n"
+    "       brittle figure SCENE.ini [MORE.ini ...] [--set ...] [--runs DIR] [--out DIR] "
+    "[--reuse]\n"
     "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
     "[--out DIR]\n"
     "       brittle --version\n";
@@ -96,6 +101,7 @@ int run_command(const std::vector<std::string>& args) {
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
+  brittle::add_render_times_to_frames(scene);  // [render] times are frames too
 
   auto mesh = brittle::make_mesh(scene);
   brittle::Simulation sim(scene, *mesh);
@@ -104,6 +110,8 @@ int run_command(const std::vector<std::string>& args) {
   Progress progress;
   std::vector<brittle::Observer*> observers = writers.observers();
   observers.push_back(&progress);
+  const auto renderer = brittle::make_render_observer(scene);  // null without render.times
+  if (renderer) observers.push_back(renderer.get());
   const brittle::RunSummary summary = sim.run(observers);
   std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";
   return 0;
@@ -130,6 +138,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (args[0] == "run") return run_command({args.begin() + 1, args.end()});
+    if (args[0] == "render") return brittle::render_command({args.begin() + 1, args.end()});
+    if (args[0] == "figure") return brittle::figure_command({args.begin() + 1, args.end()});
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;

@@ -181,6 +181,7 @@ using RP = RunParams;
 using FP = FractureParams;
 using DP = DamageParams;
 using OP = OutputParams;
+using ReP = RenderParams;
 
 /// THE table: every scene key, in the order --help and docs/scenes.md list them.
 const std::vector<Key>& scene_keys() {
@@ -340,6 +341,60 @@ const std::vector<Key>& scene_keys() {
                       "warn once when the energy budget is off by more than this fraction of "
                       "the initial energy",
                       "> 0", positive));
+    // [render] — PNG frames through off-screen VTK (docs/rendering.md)
+    k.push_back(typed<std::string>(
+        "render.times", "s", "render PNG frames during the run at these times (also written as VTU)",
+        "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
+        [](const std::string& v, const Source&, Scene& scene) {
+          auto list = parse_double_list(v);
+          if (!list) return Verdict::malformed;
+          for (std::size_t i = 0; i < list->size(); ++i)
+            if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1]))
+              return Verdict::out_of_range;
+          scene.render.times = std::move(*list);
+          return Verdict::ok;
+        }));
+    k.back().type_word = "a list of numbers";
+    k.push_back(typed<std::string>(
+        "render.fields", "", "which fields to render, comma/space separated",
+        "sigma1 (sigma1/sigma_c) and/or damage (Omega)", std::string("sigma1, damage"),
+        "sigma1, damage", [](const std::string& v, const Source&, Scene& scene) {
+          std::vector<std::string> fields;
+          std::istringstream words(v);
+          for (std::string w; std::getline(words, w, ',');) {
+            std::istringstream parts(w);
+            for (std::string f; parts >> f;) {
+              if (f != "sigma1" && f != "damage") return Verdict::out_of_range;
+              fields.push_back(f);
+            }
+          }
+          if (fields.empty()) return Verdict::out_of_range;
+          scene.render.fields = std::move(fields);
+          return Verdict::ok;
+        }));
+    k.push_back(field("render.width", &Scene::render, &ReP::width, "px", "PNG frame width",
+                      "16 ... 8192", [](const int& v) { return v >= 16 && v <= 8192; }));
+    k.push_back(field("render.height", &Scene::render, &ReP::height, "px", "PNG frame height",
+                      "16 ... 8192", [](const int& v) { return v >= 16 && v <= 8192; }));
+    k.push_back(field("render.sigma1_min", &Scene::render, &ReP::sigma1_min, "",
+                      "sigma1/sigma_c at the bottom of the colour bar", "< render.sigma1_max", [](const double&) { return true; }));
+    k.push_back(field("render.sigma1_max", &Scene::render, &ReP::sigma1_max, "",
+                      "sigma1/sigma_c at the top of the colour bar", "> render.sigma1_min", [](const double&) { return true; }));
+    k.push_back(field("render.damage_min", &Scene::render, &ReP::damage_min, "",
+                      "Omega at the bottom of the colour bar", "< render.damage_max", [](const double&) { return true; }));
+    k.push_back(field("render.damage_max", &Scene::render, &ReP::damage_max, "",
+                      "Omega at the top of the colour bar", "> render.damage_min", [](const double&) { return true; }));
+    k.push_back(field("render.magnification", &Scene::render, &ReP::magnification, "",
+                      "displacement magnification (1 = true deformed shape, 0 = reference)",
+                      ">= 0", non_negative));
+    k.push_back(field("render.zoom", &Scene::render, &ReP::zoom, "",
+                      "camera zoom about the plate centre (1 = whole plate)", "> 0", positive));
+    k.push_back(typed<std::string>(
+        "render.directory", "", "where PNG frames go", "empty = <output.directory>/render",
+        std::string(), "\"\"", [](const std::string& v, const Source&, Scene& scene) {
+          scene.render.directory = v;
+          return Verdict::ok;
+        }));
     return k;
   }();
   return keys;
@@ -363,7 +418,7 @@ bool is_known_section(const std::string& section) {
 
 /// Sections that later issues will fill; until one has keys in the table, it is rejected.
 const std::set<std::string>& reserved_sections() {
-  static const std::set<std::string> s = {"render"};
+  static const std::set<std::string> s = {};
   return s;
 }
 
@@ -553,6 +608,14 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
   BRITTLE_CHECK(d.v_inf < d.v_R, o.latest({"damage.v_inf", "damage.v_R"}),
                 ": damage.v_inf = ", format_double(d.v_inf), " m/s is out of range (expected < "
                 "damage.v_R = ", format_double(d.v_R), " m/s, so that Omega_d0 (6.6) lies in (0, 1))");
+
+  const RenderParams& r = s.render;
+  BRITTLE_CHECK(r.sigma1_min < r.sigma1_max, o.latest({"render.sigma1_min", "render.sigma1_max"}),
+                ": render.sigma1_min = ", format_double(r.sigma1_min), " is not below "
+                "render.sigma1_max = ", format_double(r.sigma1_max), " (expected min < max)");
+  BRITTLE_CHECK(r.damage_min < r.damage_max, o.latest({"render.damage_min", "render.damage_max"}),
+                ": render.damage_min = ", format_double(r.damage_min), " is not below "
+                "render.damage_max = ", format_double(r.damage_max), " (expected min < max)");
 
   if (!s.mesh.file.empty()) {
     const std::string who = o.latest({"mesh.file"});

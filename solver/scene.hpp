@@ -85,6 +85,20 @@ struct OutputParams {
   double imbalance_warning = 0.02;    ///< warn once when |E(t) - E(0)| / E(0) exceeds this
 };
 
+/// PNG frames of the live grid, rendered off-screen by render/ (docs/rendering.md).
+struct RenderParams {
+  /// Which fields to render: sigma1 (sigma1/sigma_c) and/or damage (Omega).
+  static constexpr const char* default_fields[] = {"sigma1", "damage"};
+  std::vector<double> times;  ///< render during the run at these times [s] (empty = none)
+  std::vector<std::string> fields = std::vector<std::string>(default_fields, default_fields + 2);
+  int width = 600, height = 400;             ///< PNG size [px]
+  double sigma1_min = 0, sigma1_max = 1.2;   ///< fixed colour range of sigma1/sigma_c
+  double damage_min = 0, damage_max = 0.45;  ///< fixed colour range of Omega
+  double magnification = 1;  ///< displacement magnification (1 = the true deformed shape)
+  double zoom = 1;           ///< camera zoom about the plate centre (1 = whole plate)
+  std::string directory;     ///< where PNGs go (empty = <output.directory>/render)
+};
+
 struct Scene {
   MaterialParams material;
   GeometryParams geometry;
@@ -94,6 +108,7 @@ struct Scene {
   DamageParams damage;
   RunParams run;
   OutputParams output;
+  RenderParams render;
   std::vector<std::string> sources;  ///< the INI files and --set overrides it came from
 };
 

@@ -42,6 +42,13 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
     // Lateral boundaries y = +-H/2 are held at their pre-stressed positions.
     fixed[i] = std::abs(std::abs(X[3 * i + 1]) - half_H) < tol ? 1 : 0;
   }
+  // The load sigma/sigma_c as field data, so that frames rendered later from the VTU files
+  // can be labelled with it (render/).
+  auto load = vtkSmartPointer<vtkDoubleArray>::New();
+  load->SetName("sigma_over_sigmac");
+  load->InsertNextValue(sigma_ / scene.material.sigma_c);
+  grid_.vtk()->GetFieldData()->AddArray(load);
+
   dt_ = stable_time_step(grid_, constants_, scene.material, scene.run.cfl);
   const vtkIdType bad = assembler_.compute(grid_, elements_, force_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");

@@ -1,0 +1,371 @@
+// `brittle render`, `brittle figure` and the [render] observer of `brittle run` (docs/rendering.md).
+#include "render_commands.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include <boost/program_options.hpp>
+#include <vtkImageData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "error.hpp"
+#include "frame_renderer.hpp"
+#include "image_tools.hpp"
+#include "output.hpp"
+#include "plate_mesh.hpp"
+#include "scene_options.hpp"
+
+namespace brittle {
+namespace {
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+using render::Field;
+
+/// A stored frame is taken for a requested time when it is at most this far away.
+constexpr double kTimeTolerance = 0.25e-6;  // [s]; frames fire within half a step of their time
+
+std::vector<Field> fields_of(const std::vector<std::string>& words) {
+  std::vector<Field> fields;
+  for (const std::string& w : words) fields.push_back(render::parse_field(w));
+  return fields;
+}
+
+std::string render_directory(const Scene& scene) {
+  return scene.render.directory.empty() ? scene.output.directory + "/render"
+                                        : scene.render.directory;
+}
+
+/// Comma/space separated numbers ("1e-6,15e-6 30e-6") from an option value.
+std::vector<double> parse_times(const std::string& text, const std::string& option) {
+  std::vector<double> times;
+  std::string token;
+  std::istringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    std::istringstream words(part);
+    for (std::string w; words >> w;) {
+      std::size_t used = 0;
+      double t = 0;
+      try {
+        t = std::stod(w, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      BRITTLE_CHECK(used == w.size() && std::isfinite(t) && t >= 0, option, " '", text,
+                    "': '", w, "' is not a time in s (expected e.g. 1e-6,15e-6,30e-6)");
+      times.push_back(t);
+    }
+  }
+  BRITTLE_CHECK(!times.empty(), option, " '", text, "': no times given");
+  return times;
+}
+
+/// Words of repeated and/or comma-separated --field options.
+std::vector<std::string> split_words(const std::vector<std::string>& values) {
+  std::vector<std::string> words;
+  for (const std::string& v : values) {
+    std::istringstream in(v);
+    for (std::string part; std::getline(in, part, ',');) {
+      std::istringstream ws(part);
+      for (std::string w; ws >> w;) words.push_back(w);
+    }
+  }
+  return words;
+}
+
+/// Scene files + --set overrides for their [render] keys only. The load is irrelevant to the
+/// picture (labels take it from the frames) but a scene must have one to be valid.
+Scene render_scene(const std::vector<std::string>& files, const std::vector<std::string>& sets) {
+  std::vector<std::string> overrides = {"loading.sigma_over_sigmac=0.5"};
+  overrides.insert(overrides.end(), sets.begin(), sets.end());
+  return load_scene(files, overrides);
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path) {
+  BRITTLE_CHECK(fs::is_regular_file(path), "render: frame '", path, "' does not exist");
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  BRITTLE_CHECK(grid && grid->GetNumberOfCells() > 0, "render: cannot read frame '", path, "'");
+  auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  copy->ShallowCopy(grid);
+  return copy;
+}
+
+/// The stored frame nearest to `time`; throws when none is within kTimeTolerance.
+const PvdEntry& frame_at(const std::vector<PvdEntry>& series, double time, const std::string& pvd) {
+  BRITTLE_CHECK(!series.empty(), "render: time series '", pvd, "' has no frames");
+  const auto nearest = std::min_element(series.begin(), series.end(), [&](auto& a, auto& b) {
+    return std::abs(a.time - time) < std::abs(b.time - time);
+  });
+  BRITTLE_CHECK(std::abs(nearest->time - time) <= kTimeTolerance, "render: time series '", pvd,
+                "' has no frame at t = ", time, " s (nearest: ", nearest->time, " s; frames from ",
+                series.front().time, " to ", series.back().time, " s)");
+  return *nearest;
+}
+
+/// Renders frames during a run at render.times, one PNG per field.
+class RenderObserver : public Observer {
+ public:
+  explicit RenderObserver(const Scene& scene)
+      : renderer_(scene.render),
+        times_(scene.render.times),
+        fields_(fields_of(scene.render.fields)),
+        directory_(render_directory(scene)) {}
+
+  void on_frame(const Simulation& sim) override {
+    bool due = false;
+    while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) due = true, ++next_;
+    if (!due) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (Field f : fields_) {
+      auto image = renderer_.render(*sim.grid().vtk(), f);
+      render::write_png(*image, directory_ + "/" + render::frame_file_name(f, times_[next_ - 1]));
+      ++frames_;
+    }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  void on_finish(const Simulation&, const RunSummary&) override {
+    if (frames_ > 0)
+      std::fprintf(stderr, "brittle: %d PNG frames in %s (%.3f s per frame)\n", frames_,
+                   directory_.c_str(), seconds_ / frames_);
+  }
+
+ private:
+  render::FrameRenderer renderer_;
+  std::vector<double> times_;
+  std::vector<Field> fields_;
+  std::string directory_;
+  std::size_t next_ = 0;
+  int frames_ = 0;
+  double seconds_ = 0;
+};
+
+/// "60" for 0.6: the load as a whole percentage, for directory names and titles.
+std::string percent(double load) {
+  return std::to_string(static_cast<int>(std::lround(100 * load)));
+}
+
+}  // namespace
+
+void add_render_times_to_frames(Scene& scene) {
+  if (scene.render.times.empty()) return;
+  OutputParams& o = scene.output;
+  std::vector<double> times = o.frame_times;
+  if (times.empty() && o.frame_interval > 0) {  // the grid Simulation::frame_times would use
+    const long n = static_cast<long>(std::floor(scene.run.end_time / o.frame_interval * (1 + 1e-12)));
+    for (long k = 0; k <= n; ++k) times.push_back(k * o.frame_interval);
+  }
+  times.insert(times.end(), scene.render.times.begin(), scene.render.times.end());
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end(),
+                          [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
+              times.end());
+  o.frame_times = times;
+}
+
+std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
+  if (scene.render.times.empty()) return nullptr;
+  return std::make_unique<RenderObserver>(scene);
+}
+
+int render_command(const std::vector<std::string>& args) {
+  const char* usage =
+      "usage: brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T1,T2,...] "
+      "[--field sigma1|damage ...] [--set render.key=value ...] [--out DIR]";
+  po::options_description opts("brittle render options");
+  std::vector<std::string> inputs, sets, field_options;
+  std::string times_text, out;
+  opts.add_options()("help,h", "this help")(
+      "times", po::value(&times_text),
+      "times in s, comma separated (default: render.times, else every stored frame)")(
+      "field", po::value(&field_options)->composing(),
+      "sigma1 and/or damage, repeatable or comma separated (default: render.fields)")(
+      "set", po::value(&sets)->composing(), "override one [render] key: render.key=value")(
+      "out", po::value(&out), "where the PNGs go (default: render.directory, else RUN_DIR/render)")(
+      "input", po::value(&inputs)->composing(), "the .pvd, then scene files for [render] keys");
+  po::positional_options_description positional;
+  positional.add("input", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << usage << "\n\n" << opts;
+    return 0;
+  }
+  BRITTLE_CHECK(!inputs.empty(), "brittle render: no time series given (", usage, ")");
+  const std::string pvd = inputs.front();
+  const Scene scene = render_scene({inputs.begin() + 1, inputs.end()}, sets);
+  const std::vector<PvdEntry> series = read_pvd(pvd);
+  BRITTLE_CHECK(!series.empty(), "render: time series '", pvd, "' has no frames");
+
+  std::vector<std::pair<double, const PvdEntry*>> picks;  // (name time, frame)
+  if (!times_text.empty() || !scene.render.times.empty()) {
+    const auto times = times_text.empty() ? scene.render.times : parse_times(times_text, "--times");
+    for (double t : times) picks.emplace_back(t, &frame_at(series, t, pvd));
+  } else {
+    for (const PvdEntry& e : series) picks.emplace_back(e.time, &e);
+  }
+  const std::vector<Field> fields =
+      fields_of(field_options.empty() ? scene.render.fields : split_words(field_options));
+  const std::string directory = !out.empty()                      ? out
+                                : !scene.render.directory.empty() ? scene.render.directory
+                                : (fs::path(pvd).parent_path() / "render").string();
+
+  render::FrameRenderer renderer(scene.render);
+  double seconds = 0;
+  int frames = 0;
+  for (const auto& [t, entry] : picks) {
+    auto grid = read_frame(entry->file);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (Field f : fields) {
+      auto image = renderer.render(*grid, f);
+      render::write_png(*image, directory + "/" + render::frame_file_name(f, t));
+      ++frames;
+    }
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::cout << "wrote " << frames << " PNG frames to " << directory << " ("
+            << (frames ? seconds / frames : 0) << " s per frame)\n";
+  return 0;
+}
+
+int figure_command(const std::vector<std::string>& args) {
+  const char* usage =
+      "usage: brittle figure SCENE.ini [MORE.ini ...] [--set section.key=value ...] "
+      "[--runs DIR] [--out DIR] [--reuse]";
+  po::options_description opts("brittle figure options");
+  std::vector<std::string> files, sets;
+  std::string runs = "out/figures", out = "figures";
+  opts.add_options()("help,h", "this help")(
+      "set", po::value(&sets)->composing(), "override one key for all four runs")(
+      "runs", po::value(&runs), "where the four runs go (default out/figures)")(
+      "out", po::value(&out), "where fig07.png ... fig10.png go (default figures)")(
+      "reuse", "take existing runs in --runs when they hold frames at every row time")(
+      "scene", po::value(&files)->composing(), "base scene and overlays");
+  po::positional_options_description positional;
+  positional.add("scene", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << usage << "\n\nRuns straight and branching fracture at 60 % and 90 % of sigma_c "
+                 "(rows: render.times, default 1, 15, 30 us) and lays the frames out as the "
+                 "paper's Figs. 7-10.\n\n"
+              << opts;
+    return 0;
+  }
+  BRITTLE_CHECK(!files.empty(), "brittle figure: no scene file given (", usage, ")");
+
+  const Scene base = load_scene(files, sets);
+  std::vector<double> times = base.render.times;
+  if (times.empty()) times = {1e-6, 15e-6, 30e-6};
+  std::string times_text;
+  for (double t : times) {
+    if (!times_text.empty()) times_text += ',';
+    times_text += error_message(t);
+  }
+
+  const std::vector<std::string> modes = {"straight", "branching"};
+  const std::vector<double> loads = {0.6, 0.9};
+  // The four runs: base scene + mode + load, frames only at the row times, up to the last.
+  std::map<std::pair<std::string, double>, std::vector<PvdEntry>> series;
+  for (const std::string& mode : modes) {
+    for (double load : loads) {
+      const std::string dir = runs + "/" + mode + "-" + percent(load);
+      const std::string pvd = dir + "/run.pvd";
+      bool have = false;
+      if (vm.count("reuse") && fs::is_regular_file(pvd)) {
+        const auto stored = read_pvd(pvd);
+        have = std::all_of(times.begin(), times.end(), [&](double t) {
+          return std::any_of(stored.begin(), stored.end(),
+                             [&](const PvdEntry& e) { return std::abs(e.time - t) <= kTimeTolerance; });
+        });
+      }
+      if (have) {
+        std::cerr << "brittle figure: reusing " << dir << "\n";
+      } else {
+        std::vector<std::string> overrides = sets;
+        overrides.insert(overrides.end(),
+                         {"fracture.mode=" + mode, "loading.sigma_over_sigmac=" + error_message(load),
+                          "output.directory=" + dir, "output.frame_times=" + times_text,
+                          "output.vtu=true", "run.end_time=" + error_message(times.back()),
+                          "render.times="});
+        const Scene scene = load_scene(files, overrides);
+        std::cerr << "brittle figure: " << mode << " fracture at " << percent(load)
+                  << " % of sigma_c -> " << dir << "\n";
+        auto mesh = make_mesh(scene);
+        Simulation sim(scene, *mesh);
+        OutputWriters writers(sim);
+        const RunSummary s = sim.run(writers.observers());
+        std::fprintf(stderr, "brittle figure:   %s, %ld steps in %.1f s, %ld splits, tip x = %.2f mm\n",
+                     s.status.c_str(), s.steps, s.wall_seconds, s.splits, s.tip_x * 1e3);
+      }
+      series[{mode, load}] = read_pvd(pvd);
+    }
+  }
+
+  // Frames: [mode][field][row][column], rendered once per stored grid.
+  render::FrameRenderer renderer(base.render);
+  std::map<std::tuple<std::string, int, std::size_t, std::size_t>, vtkSmartPointer<vtkImageData>>
+      frames;
+  int count = 0;
+  double seconds = 0;
+  for (const std::string& mode : modes) {
+    for (std::size_t c = 0; c < loads.size(); ++c) {
+      const std::string pvd = runs + "/" + mode + "-" + percent(loads[c]) + "/run.pvd";
+      for (std::size_t r = 0; r < times.size(); ++r) {
+        auto grid = read_frame(frame_at(series[{mode, loads[c]}], times[r], pvd).file);
+        const auto t0 = std::chrono::steady_clock::now();
+        for (Field f : {Field::sigma1, Field::damage}) {
+          frames[{mode, static_cast<int>(f), r, c}] = renderer.render(*grid, f);
+          ++count;
+        }
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    }
+  }
+
+  std::vector<std::string> row_titles, column_titles;
+  for (double t : times) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g µs", t * 1e6);
+    row_titles.push_back(buf);
+  }
+  for (double load : loads) column_titles.push_back(percent(load) + " % of sigma_c");
+  struct Figure {
+    const char* file;
+    std::string mode;
+    Field field;
+    const char* title;
+  };
+  const Figure figures[] = {
+      {"fig07.png", "straight", Field::sigma1, "Fig. 7: sigma1 / sigma_c, straight crack"},
+      {"fig08.png", "straight", Field::damage, "Fig. 8: Omega (damage), straight crack"},
+      {"fig09.png", "branching", Field::sigma1, "Fig. 9: sigma1 / sigma_c, branching"},
+      {"fig10.png", "branching", Field::damage, "Fig. 10: Omega (damage), branching"},
+  };
+  for (const Figure& fig : figures) {
+    std::vector<std::vector<vtkImageData*>> cells(times.size());
+    for (std::size_t r = 0; r < times.size(); ++r)
+      for (std::size_t c = 0; c < loads.size(); ++c)
+        cells[r].push_back(frames[{fig.mode, static_cast<int>(fig.field), r, c}]);
+    auto image = render::panel(cells, row_titles, column_titles, fig.title);
+    render::write_png(*image, out + "/" + fig.file);
+  }
+  std::cout << "wrote " << out << "/fig07.png ... fig10.png (" << count << " frames, "
+            << seconds / std::max(count, 1) << " s per frame)\n";
+  return 0;
+}
+
+}  // namespace brittle
