@@ -47,7 +47,6 @@ std::string render_directory(const Scene& scene) {
 /// Comma/space separated numbers ("1e-6,15e-6 30e-6") from an option value.
 std::vector<double> parse_times(const std::string& text, const std::string& option) {
   std::vector<double> times;
-  std::string token;
   std::istringstream in(text);
   for (std::string part; std::getline(in, part, ',');) {
     std::istringstream words(part);
@@ -123,9 +122,10 @@ class RenderObserver : public Observer {
         directory_(render_directory(scene)) {}
 
   void on_frame(const Simulation& sim) override {
-    bool due = false;
-    while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) due = true, ++next_;
-    if (!due) return;
+    // Frames fire within half a step of their time (Simulation::run); a frame may cover several.
+    const std::size_t first = next_;
+    while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) ++next_;
+    if (next_ == first) return;
     const auto t0 = std::chrono::steady_clock::now();
     for (Field f : fields_) {
       auto image = renderer_.render(*sim.grid().vtk(), f);

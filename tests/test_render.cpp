@@ -214,6 +214,30 @@ TEST_F(Render, StoredSeriesGivesTheFrameOfTheRun) {
   EXPECT_EQ(compared, 4);
 }
 
+TEST_F(Render, FigureCommandWritesTheFourPanels) {
+  const fs::path dir = scratch("figure");
+  const std::string exe = BRITTLE_EXE, scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  const std::string command = exe + " figure " + scenes + "cm.ini " + scenes + "damage.ini" +
+                              " --set mesh.size=2e-3 --set render.width=200 --set "
+                              "render.height=150 --set render.times=1e-6,4e-6 --runs '" +
+                              (dir / "runs").string() + "' --out '" + (dir / "figs").string() + "'";
+  ASSERT_EQ(run(command, dir / "first.log"), 0) << read(dir / "first.log");
+  for (const char* run_dir : {"straight-60", "straight-90", "branching-60", "branching-90"})
+    EXPECT_TRUE(fs::exists(dir / "runs" / run_dir / "run.pvd")) << run_dir;
+  for (const char* fig : {"fig07.png", "fig08.png", "fig09.png", "fig10.png"}) {
+    SCOPED_TRACE(fig);
+    auto image = brittle::render::read_png((dir / "figs" / fig).string());
+    int dims[3];
+    image->GetDimensions(dims);
+    EXPECT_GT(dims[0], 2 * 200);  // two columns + row titles
+    EXPECT_GT(dims[1], 2 * 150);  // two rows + column titles + title
+  }
+  // --reuse lays the panels out again from the stored runs, without running them.
+  ASSERT_EQ(run(command + " --reuse", dir / "second.log"), 0) << read(dir / "second.log");
+  EXPECT_NE(read(dir / "second.log").find("reusing"), std::string::npos);
+  EXPECT_EQ(read(dir / "second.log").find("fracture at"), std::string::npos);
+}
+
 TEST_F(Render, RenderCommandErrors) {
   const fs::path dir = scratch("errors");
   const std::string exe = BRITTLE_EXE;
