@@ -15,6 +15,7 @@
 #include "error.hpp"
 #include "output.hpp"
 #include "plate_mesh.hpp"
+#include "figures.hpp"
 #include "render_commands.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
@@ -30,6 +31,8 @@ const char* kUsage =
     "       brittle run --help      (every scene key with default, unit and meaning)\n"
     "       brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T,...] [--field F ...] "
     "[--set render.key=value ...] [--out DIR]\n"
+    "       brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n"
+    "       brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]  (Figs. 5-10)\n"
     "       brittle figure SCENE.ini [MORE.ini ...] [--set ...] [--runs DIR] [--out DIR] "
     "[--reuse]\n"
     "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
@@ -140,6 +143,8 @@ int main(int argc, char** argv) {
     if (args[0] == "run") return run_command({args.begin() + 1, args.end()});
     if (args[0] == "render") return brittle::render_command({args.begin() + 1, args.end()});
     if (args[0] == "figure") return brittle::figure_command({args.begin() + 1, args.end()});
+    if (args[0] == "chart") return brittle::chart_command({args.begin() + 1, args.end()});
+    if (args[0] == "reproduce") return brittle::reproduce_command({args.begin() + 1, args.end()});
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;

@@ -680,3 +680,30 @@ TEST(Executable, ZeroVolumeTetIsRejected) {
                    std::string(kLoad) + "[mesh]\nfile = " + fs::absolute(mesh).string() + "\n",
                    {"degenerate_tet.vtu"});
 }
+
+namespace {
+
+// docs/scenes.md documents every key the program knows (the key table is the one source;
+// this keeps the page from drifting away from it).
+TEST(SceneDocs, EveryKeyIsDocumented) {
+  std::ostringstream help;
+  brittle::print_scene_keys(help);
+  std::ifstream page(std::string(BRITTLE_SOURCE_DIR) + "/docs/scenes.md");
+  const std::string doc((std::istreambuf_iterator<char>(page)), {});
+  ASSERT_FALSE(doc.empty());
+  std::istringstream lines(help.str());
+  int keys = 0;
+  for (std::string line; std::getline(lines, line);) {
+    // key lines: "  section.key   = default ..."
+    std::istringstream words(line);
+    std::string key, eq;
+    if (line.rfind("  ", 0) != 0 || !(words >> key >> eq) || eq != "=" ||
+        key.find('.') == std::string::npos)
+      continue;
+    ++keys;
+    EXPECT_NE(doc.find("`" + key + "`"), std::string::npos) << key << " is missing from docs/scenes.md";
+  }
+  EXPECT_GT(keys, 40);
+}
+
+}  // namespace

@@ -1,0 +1,225 @@
+// Figs. 5-6: load sweeps drawn as crack speed against W over the Zhou et al. fit (1.1).
+#include "figures.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include <boost/program_options.hpp>
+
+#include "chart.hpp"
+#include "crack_tip.hpp"
+#include "error.hpp"
+#include "render_commands.hpp"
+#include "scene.hpp"
+
+namespace fs = std::filesystem;
+namespace po = boost::program_options;
+
+namespace brittle {
+namespace {
+
+using render::ChartSeries;
+
+const std::array<std::array<unsigned char, 3>, 5> kColors = {
+    {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}}};
+
+/// Reads a finished sweep directory back (every load_* run directory in it, in load order).
+SweepSeries read_sweep(const std::string& directory, const std::string& label) {
+  BRITTLE_CHECK(fs::is_directory(directory), "chart: sweep directory '", directory,
+                "' does not exist");
+  std::vector<std::string> runs;
+  for (const auto& entry : fs::directory_iterator(directory))
+    if (entry.is_directory() && entry.path().filename().string().rfind("load_", 0) == 0)
+      runs.push_back(entry.path().string());
+  std::sort(runs.begin(), runs.end());
+  BRITTLE_CHECK(!runs.empty(), "chart: '", directory, "' holds no load_* run directories");
+  SweepSeries s{label, {}};
+  for (const std::string& run : runs) s.points.push_back(read_run(run));
+  return s;
+}
+
+/// All points of several series, one CSV (series label first).
+void write_series_csv(const std::string& path, const std::vector<SweepSeries>& series) {
+  std::ofstream out(path);
+  BRITTLE_CHECK(out, "chart: cannot write '", path, "'");
+  out << "series,sigma_over_sigmac,W,speed,fitted_speed,fit_r2,arrested,zhou_speed,"
+         "relative_error\n"
+      << std::setprecision(8);
+  for (const SweepSeries& s : series)
+    for (const SweepPoint& p : s.points)
+      out << s.label << ',' << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed
+          << ',' << p.r2 << ',' << (p.arrested ? "yes" : "no") << ',' << p.zhou_speed << ','
+          << (p.zhou_speed > 0 ? (p.speed - p.zhou_speed) / p.zhou_speed : 0.0) << '\n';
+}
+
+/// Mean |v - v_fit| / v_fit over the loads in [lo, hi] (an arrest counts as speed 0).
+double mean_fit_error(const SweepSeries& s, double lo, double hi) {
+  double sum = 0;
+  int n = 0;
+  for (const SweepPoint& p : s.points)
+    if (p.load >= lo - 1e-9 && p.load <= hi + 1e-9 && p.zhou_speed > 0 && std::isfinite(p.speed))
+      sum += std::abs(p.speed - p.zhou_speed) / p.zhou_speed, ++n;
+  return n ? sum / n : std::nan("");
+}
+
+/// One line per series: its mean distance from the Zhou fit over 0.5-1.0 sigma_c.
+std::string fit_table(const std::vector<SweepSeries>& series) {
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(1);
+  for (const SweepSeries& s : series)
+    t << "  " << std::left << std::setw(28) << s.label << " mean |v - v_fit|/v_fit (0.5-1.0): "
+      << 100 * mean_fit_error(s, 0.5, 1.0) << " %\n";
+  return t.str();
+}
+
+}  // namespace
+
+void write_speed_chart(const std::string& path, const std::string& title,
+                       const std::vector<SweepSeries>& series) {
+  const DamageParams damage;  // v_inf, v_R and (6.6) as the paper gives them
+  const double v_R = damage.v_R, v_damped = std::sqrt(1.0 - damage.limit()) * v_R;
+  const double W_max = 16000.0;
+  std::vector<ChartSeries> lines;
+  ChartSeries fit{"Zhou et al. fit (1.1)", {}, {}, ChartSeries::Style::line, {0, 0, 0}, 0};
+  for (double W = 1000.0; W <= W_max; W += 50.0) fit.x.push_back(W), fit.y.push_back(zhou_speed(W));
+  lines.push_back(fit);
+  lines.push_back({"Rayleigh speed", {0, W_max}, {v_R, v_R}, ChartSeries::Style::dashed,
+                   {90, 90, 90}, 0});
+  lines.push_back({"damped Rayleigh sqrt(1-Omega_d0) v_R", {0, W_max}, {v_damped, v_damped},
+                   ChartSeries::Style::dashed, {160, 160, 160}, 0});
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    ChartSeries s{series[i].label, {}, {}, ChartSeries::Style::points, kColors[i % kColors.size()],
+                  static_cast<int>(i)};
+    for (const SweepPoint& p : series[i].points)
+      if (p.status == "completed" && std::isfinite(p.speed)) s.x.push_back(p.W), s.y.push_back(p.speed);
+    lines.push_back(s);
+  }
+  render::ChartAxes axes;
+  axes.title = title;
+  axes.x_title = "W = H sigma^2 / (2E)  [N/m]";
+  axes.y_title = "crack speed  [m/s]";
+  axes.x_min = 0, axes.x_max = W_max, axes.y_min = 0, axes.y_max = 1100;
+  render::write_chart_png(path, axes, lines);
+}
+
+int chart_command(const std::vector<std::string>& args) {
+  std::vector<std::string> sweeps;
+  std::string out, title = "Crack speed against strain energy";
+  po::options_description opts("brittle chart options");
+  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(), "PNG to write")(
+      "title", po::value(&title), "chart title")(
+      "sweep", po::value(&sweeps)->composing(), "sweep directories, each optionally DIR=LABEL");
+  po::positional_options_description positional;
+  positional.add("sweep", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::ostringstream text;
+    text << "usage: brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n" << opts;
+    std::printf("%s", text.str().c_str());
+    return 0;
+  }
+  po::notify(vm);
+  BRITTLE_CHECK(!sweeps.empty(), "brittle chart: no sweep directory given");
+  std::vector<SweepSeries> series;
+  for (const std::string& s : sweeps) {
+    const auto eq = s.find('=');
+    const std::string dir = s.substr(0, eq);
+    series.push_back(read_sweep(dir, eq == std::string::npos ? fs::path(dir).filename().string()
+                                                               : s.substr(eq + 1)));
+  }
+  write_speed_chart(out, title, series);
+  write_series_csv(fs::path(out).replace_extension(".csv").string(), series);
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}
+
+int reproduce_command(const std::vector<std::string>& args) {
+  std::string out = "out/figures", scenes = "scenes", loads = "0.4:1.0:0.05", meshes = "cm,rm";
+  int jobs = 0;
+  bool no_frames = false;
+  po::options_description opts("brittle reproduce options");
+  opts.add_options()("help,h", "show this help")("out", po::value(&out), "output directory")(
+      "scenes", po::value(&scenes), "directory of the shipped scenes")(
+      "loads", po::value(&loads), "loads of every sweep (first:last:step or a list)")(
+      "meshes", po::value(&meshes), "meshes to sweep: cm, rm or cm,rm")(
+      "jobs", po::value(&jobs), "runs at once (0 = number of cores)")(
+      "no-frames", po::bool_switch(&no_frames), "skip Figs. 7-10");
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(opts).run(), vm);
+  if (vm.count("help")) {
+    std::ostringstream text;
+    text << "usage: brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]\n"
+         << opts;
+    std::printf("%s", text.str().c_str());
+    return 0;
+  }
+  po::notify(vm);
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(out);
+  // The sweeps: {label, mesh, overlays}; Fig. 5 (= Fig. 6a) without damage, Fig. 6b with it,
+  // plus the calibrated rate-dependent links on RM (docs/reproduction.md).
+  struct Spec {
+    std::string label, mesh;
+    std::vector<std::string> overlays;
+    bool damage;
+  };
+  std::vector<Spec> specs;
+  std::stringstream m(meshes);
+  for (std::string mesh; std::getline(m, mesh, ',');)
+    BRITTLE_CHECK(mesh == "cm" || mesh == "rm", "--meshes '", meshes, "': '", mesh,
+                  "' is not a mesh (expected cm, rm)");
+  for (bool damage : {false, true})
+    for (const char* law : {"RI", "RD"})
+      for (const char* mesh : {"cm", "rm"}) {
+        if (meshes.find(mesh) == std::string::npos) continue;
+        std::vector<std::string> overlays;
+        if (std::string(law) == "RD") overlays.push_back("rate-dependent.ini");
+        if (damage) overlays.push_back("damage.ini");
+        specs.push_back({std::string(law) + "-" + (std::string(mesh) == "cm" ? "CM" : "RM"), mesh,
+                         overlays, damage});
+      }
+  if (meshes.find("rm") != std::string::npos)
+    specs.push_back({"RD-RM calibrated", "rm", {"rate-dependent-calibrated.ini", "damage.ini"}, true});
+  std::vector<SweepSeries> without, with;
+  for (const Spec& spec : specs) {
+    SweepOptions o;
+    o.scenes = {scenes + "/" + spec.mesh + ".ini"};
+    for (const std::string& overlay : spec.overlays) o.scenes.push_back(scenes + "/" + overlay);
+    o.loads = parse_loads(loads);
+    o.jobs = jobs;
+    std::string dir = spec.label + (spec.damage ? "-damage" : "");
+    std::replace(dir.begin(), dir.end(), ' ', '-');
+    o.out = out + "/sweeps/" + dir;
+    std::fprintf(stderr, "brittle reproduce: sweep %s%s (%zu loads)\n", spec.label.c_str(),
+                 spec.damage ? " with damage" : "", o.loads.size());
+    (spec.damage ? with : without).push_back({spec.label, run_sweep(o)});
+  }
+  write_speed_chart(out + "/fig05.png", "Fig. 5: RI and RD nodal cohesive forces, no damage",
+                    without);
+  write_series_csv(out + "/fig05.csv", without);
+  write_speed_chart(out + "/fig06b.png", "Fig. 6b: RI and RD nodal cohesive forces with damage",
+                    with);
+  write_series_csv(out + "/fig06b.csv", with);
+  const std::string table = "Fig. 5 (no damage):\n" + fit_table(without) +
+                            "Fig. 6b (damage):\n" + fit_table(with);
+  std::ofstream(out + "/fit_errors.txt") << table;
+  std::printf("%s", table.c_str());
+  if (!no_frames) {
+    std::vector<std::string> figure_args = {scenes + "/cm.ini", "--out", out};
+    figure_command(figure_args);
+  }
+  const double minutes =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60.0;
+  std::printf("wrote %s (fig05, fig06b%s) in %.1f min\n", out.c_str(),
+              no_frames ? "" : ", fig07-fig10", minutes);
+  return 0;
+}
+
+}  // namespace brittle

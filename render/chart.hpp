@@ -1,0 +1,30 @@
+// x-y charts drawn off-screen with VTK's charts (vtkChartXY), for the crack speed versus
+// strain energy figures (paper Figs. 5-6).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace brittle::render {
+
+struct ChartSeries {
+  enum class Style { points, line, dashed };
+  std::string name;               ///< legend entry
+  std::vector<double> x, y;
+  Style style = Style::points;
+  std::array<unsigned char, 3> color = {0, 0, 0};
+  int marker = 0;                 ///< points: 0 circle, 1 square, 2 diamond, 3 cross, 4 plus
+};
+
+struct ChartAxes {
+  std::string title, x_title, y_title;
+  double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
+  int width = 900, height = 650;
+};
+
+/// Draws the series on fixed axes with a legend and writes a PNG (throws brittle::Error).
+void write_chart_png(const std::string& path, const ChartAxes& axes,
+                     const std::vector<ChartSeries>& series);
+
+}  // namespace brittle::render
