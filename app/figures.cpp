@@ -212,7 +212,9 @@ int reproduce_command(const std::vector<std::string>& args) {
   std::ofstream(out + "/fit_errors.txt") << table;
   std::printf("%s", table.c_str());
   if (!no_frames) {
-    std::vector<std::string> figure_args = {scenes + "/cm.ini", "--out", out};
+    // Figs. 7-10 are with damage (paper section 6), straight and branching, 60 % and 90 %.
+    std::vector<std::string> figure_args = {scenes + "/cm.ini", scenes + "/damage.ini", "--out",
+                                            out, "--runs", out + "/runs"};
     figure_command(figure_args);
   }
   const double minutes =
