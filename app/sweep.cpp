@@ -21,6 +21,7 @@
 #include <boost/property_tree/ptree.hpp>
 
 #include "error.hpp"
+#include "figures.hpp"
 
 extern char** environ;
 
@@ -238,7 +239,11 @@ int sweep_command(const std::vector<std::string>& args) {
                 p.status.c_str());
     all_completed = all_completed && p.status == "completed";
   }
-  std::printf("wrote %s/sweep.csv\n", o.out.c_str());
+  std::string label = fs::path(o.scenes.front()).stem().string();
+  for (std::size_t i = 1; i < o.scenes.size(); ++i) label += "+" + fs::path(o.scenes[i]).stem().string();
+  write_speed_chart(o.out + "/sweep.png", "Crack speed against strain energy: " + label,
+                    {{label, points}});
+  std::printf("wrote %s/sweep.csv and sweep.png\n", o.out.c_str());
   BRITTLE_CHECK(all_completed, "sweep: some runs failed (see sweep.csv and their run.log)");
   return 0;
 }

@@ -44,7 +44,8 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& options);
 SweepPoint read_run(const std::string& directory);
 
 /// `brittle sweep SCENE.ini [MORE.ini ...] --loads SPEC [--set k=v ...] [--jobs N]
-/// [--out DIR] [--frames]`: runs the sweep and prints one line per load; 0 on success.
+/// [--out DIR] [--frames]`: runs the sweep, prints one line per load and draws sweep.png
+/// (speed against W over the Zhou fit); 0 on success.
 int sweep_command(const std::vector<std::string>& args);
 
 /// Writes the rows (and a header) as CSV.

@@ -57,6 +57,7 @@ TEST(Sweep, ParallelRunsMatchSingleRuns) {
                              (dir / "single").string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(single.c_str()), 0);
 
+  EXPECT_GT(fs::file_size(dir / "sweep" / "sweep.png"), 1000u);
   const std::string csv = read(dir / "sweep" / "sweep.csv");
   EXPECT_NE(csv.find("sigma_over_sigmac,W,speed,fitted_speed,fit_r2"), std::string::npos) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
