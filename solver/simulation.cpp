@@ -26,7 +26,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       assembler_(grid_, constants_),
       fracture_(scene, grid_) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
-  if (scene.run.threads > 0) omp_set_num_threads(scene.run.threads);
+  omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
   lump_masses(grid_, elements_, constants_.rho0);
 
   // Uniaxial stress sigma along y: x = (b X, lambda Y, b Z)   (B.6), loading axis = y.

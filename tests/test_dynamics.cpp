@@ -1,5 +1,6 @@
 // Pre-stressed elastodynamics: equilibrium, wave speed, energy balance, determinism (SPEC 2-4).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -162,6 +163,22 @@ TEST(Dynamics, BlowUpIsReported) {
   sim.grid().v()[3 * (sim.grid().num_points() / 2)] = std::nan("");
   sim.grid().fixed()[sim.grid().num_points() / 2] = 0;
   EXPECT_THROW(sim.run({}), Error);
+}
+
+}  // namespace
+}  // namespace brittle
+
+namespace brittle {
+namespace {
+
+// run.threads = 0 means every core, even though Gmsh set OpenMP to one thread while meshing.
+TEST(Dynamics, ZeroThreadsMeansAllCores) {
+  Scene s = plate_scene(0.5, 1e-7);
+  s.mesh.size = 2e-3;
+  s.run.threads = 0;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  EXPECT_EQ(sim.run({}).threads, omp_get_num_procs());
 }
 
 }  // namespace
