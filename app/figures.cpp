@@ -14,6 +14,7 @@
 
 #include "chart.hpp"
 #include "crack_tip.hpp"
+#include "command_line.hpp"
 #include "error.hpp"
 #include "render_commands.hpp"
 #include "scene.hpp"
@@ -115,10 +116,7 @@ int chart_command(const std::vector<std::string>& args) {
   opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(), "PNG to write")(
       "title", po::value(&title), "chart title")(
       "sweep", po::value(&sweeps)->composing(), "sweep directories, each optionally DIR=LABEL");
-  po::positional_options_description positional;
-  positional.add("sweep", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  auto vm = parse_command_line(args, opts, "sweep");
   if (vm.count("help")) {
     std::ostringstream text;
     text << "usage: brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n" << opts;
@@ -151,8 +149,7 @@ int reproduce_command(const std::vector<std::string>& args) {
       "meshes", po::value(&meshes), "meshes to sweep: cm, rm or cm,rm")(
       "jobs", po::value(&jobs), "runs at once (0 = number of cores)")(
       "no-frames", po::bool_switch(&no_frames), "skip Figs. 7-10");
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).run(), vm);
+  auto vm = parse_command_line(args, opts, nullptr);
   if (vm.count("help")) {
     std::ostringstream text;
     text << "usage: brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]\n"

@@ -12,6 +12,7 @@
 #include <boost/program_options.hpp>
 #include <vtkObject.h>
 
+#include "command_line.hpp"
 #include "error.hpp"
 #include "output.hpp"
 #include "plate_mesh.hpp"
@@ -90,10 +91,7 @@ int run_command(const std::vector<std::string>& args) {
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out), "output directory (overrides output.directory)")(
       "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
-  po::positional_options_description positional;
-  positional.add("scene", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  auto vm = brittle::parse_command_line(args, opts, "scene");
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << kUsage << "\n" << opts << "\nScene keys (INI sections [section], key = value):\n";

@@ -16,6 +16,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "command_line.hpp"
 #include "error.hpp"
 #include "frame_renderer.hpp"
 #include "image_tools.hpp"
@@ -194,10 +195,7 @@ int render_command(const std::vector<std::string>& args) {
       "set", po::value(&sets)->composing(), "override one [render] key: render.key=value")(
       "out", po::value(&out), "where the PNGs go (default: render.directory, else RUN_DIR/render)")(
       "input", po::value(&inputs)->composing(), "the .pvd, then scene files for [render] keys");
-  po::positional_options_description positional;
-  positional.add("input", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  auto vm = parse_command_line(args, opts, "input");
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << usage << "\n\n" << opts;
@@ -253,10 +251,7 @@ int figure_command(const std::vector<std::string>& args) {
       "out", po::value(&out), "where fig07.png ... fig10.png go (default figures)")(
       "reuse", "take existing runs in --runs when they hold frames at every row time")(
       "scene", po::value(&files)->composing(), "base scene and overlays");
-  po::positional_options_description positional;
-  positional.add("scene", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  auto vm = parse_command_line(args, opts, "scene");
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << usage << "\n\nRuns straight and branching fracture at 60 % and 90 % of sigma_c "

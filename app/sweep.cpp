@@ -20,6 +20,7 @@
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 
+#include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
 
@@ -215,10 +216,7 @@ int sweep_command(const std::vector<std::string>& args) {
       "out", po::value(&o.out)->default_value("out/sweep"), "output directory")(
       "frames", po::bool_switch(&o.frames), "keep every run's VTU frames")(
       "scene", po::value(&o.scenes)->composing(), "scene INI files, later ones override earlier");
-  po::positional_options_description positional;
-  positional.add("scene", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(opts).positional(positional).run(), vm);
+  auto vm = parse_command_line(args, opts, "scene");
   if (vm.count("help")) {
     std::printf("usage: brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set k=v ...] "
                 "[--jobs N] [--out DIR] [--frames]\n");
