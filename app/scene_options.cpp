@@ -16,7 +16,6 @@
 #include <map>
 #include <optional>
 #include <ostream>
-#include <set>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -416,12 +415,6 @@ bool is_known_section(const std::string& section) {
   return std::find(s.begin(), s.end(), section) != s.end();
 }
 
-/// Sections that later issues will fill; until one has keys in the table, it is rejected.
-const std::set<std::string>& reserved_sections() {
-  static const std::set<std::string> s = {};
-  return s;
-}
-
 const Key* find_key(const std::string& name) {
   for (const Key& k : scene_keys())
     if (k.name == name) return &k;
@@ -464,8 +457,6 @@ std::string lower(std::string s) {
   const std::string section = dot == std::string::npos ? std::string() : name.substr(0, dot);
   if (dot == std::string::npos) {
     msg += " (keys belong in a [section] or are written section.key)";
-  } else if (!is_known_section(section) && reserved_sections().count(section)) {
-    msg += " (section [" + section + "] is not yet supported)";
   } else if (!is_known_section(section)) {
     msg += " (no section [" + section + "]; sections are";
     for (const auto& s : known_sections()) msg += " [" + s + "]";
@@ -713,10 +704,6 @@ void print_scene_keys(std::ostream& out) {
     out << "  " << pad(k.name, name_w) << " = " << pad(k.default_text, default_w) << "  "
         << pad(k.unit.empty() ? "" : "[" + k.unit + "]", unit_w) << "  " << wrap(k) << '\n';
   }
-  std::string reserved;
-  for (const std::string& r : reserved_sections())
-    if (!is_known_section(r)) reserved += (reserved.empty() ? "[" : ", [") + r + "]";
-  if (!reserved.empty()) out << "\nReserved sections, not yet supported: " << reserved << ".\n";
 }
 
 }  // namespace brittle
