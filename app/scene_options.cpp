@@ -277,6 +277,20 @@ const std::vector<Key>& scene_keys() {
                       "steady crack speed is fitted from this time on", ">= 0", non_negative));
     k.push_back(field("fracture.speed_edge_margin", &Scene::fracture, &FP::speed_edge_margin, "m",
                       "... until the tip is this close to x = L", ">= 0", non_negative));
+    k.push_back(typed<std::string>(
+        "fracture.region", "m",
+        "where nodes may break: x_min, x_max, y_min, y_max of the reference position",
+        "four numbers, x_min < x_max, y_min < y_max; empty = anywhere", std::string(), "\"\"",
+        [](const std::string& v, const Source&, Scene& scene) {
+          auto list = parse_double_list(v);
+          if (!list) return Verdict::malformed;
+          if (!list->empty() &&
+              (list->size() != 4 || (*list)[0] >= (*list)[1] || (*list)[2] >= (*list)[3]))
+            return Verdict::out_of_range;
+          scene.fracture.region = std::move(*list);
+          return Verdict::ok;
+        }));
+    k.back().type_word = "a list of numbers";
     // [damage] — continuum damage (SPEC 6, paper section 5)
     k.push_back(field("damage.beta1", &Scene::damage, &DP::beta1, "1/s",
                       "damage rate (5.2); 0 = no damage, paper: 5e6", ">= 0", non_negative));

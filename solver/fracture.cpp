@@ -16,6 +16,7 @@ namespace brittle {
 
 Fracture::Fracture(const Scene& scene, const Grid& grid)
     : mode_(scene.fracture.mode),
+      region_(scene.fracture.region),
       sigma_c_(scene.material.sigma_c),
       rho0_(scene.material.rho0),
       law_{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
@@ -29,8 +30,14 @@ Fracture::Fracture(const Scene& scene, const Grid& grid)
   const double* X = grid.X();
   for (vtkIdType p = 0; p < grid.num_points(); ++p)
     if (!grid.fixed()[p] && std::abs(X[3 * p + 1]) < tol &&
-        X[3 * p] >= scene.geometry.notch_depth - tol)
+        X[3 * p] >= scene.geometry.notch_depth - tol && may_break(grid, p))
       plane_nodes_.push_back(p);
+}
+
+bool Fracture::may_break(const Grid& grid, vtkIdType p) const {
+  if (region_.empty()) return true;
+  const double x = grid.X()[3 * p], y = grid.X()[3 * p + 1];
+  return x >= region_[0] && x <= region_[1] && y >= region_[2] && y <= region_[3];
 }
 
 std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
@@ -53,7 +60,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 #pragma omp for schedule(static) nowait
     for (vtkIdType i = 0; i < count; ++i) {
       const vtkIdType p = straight ? plane_nodes_[i] : i;
-      if (fixed[p]) continue;
+      if (fixed[p] || (!straight && !may_break(grid, p))) continue;
       // The average's largest principal value (and its normal component) is at most the
       // largest element bound: skip nodes that cannot reach sigma_c.
       double most = -std::numeric_limits<double>::infinity();

@@ -84,7 +84,11 @@ class Fracture {
   bool split_one(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);
 
+  /// Inside fracture.region (or no region given): the node may break.
+  bool may_break(const Grid& grid, vtkIdType p) const;
+
   FractureParams::Mode mode_;
+  std::vector<double> region_;
   double sigma_c_, rho0_;
   CohesiveLaw law_;
   std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a

@@ -53,6 +53,9 @@ struct FractureParams {
   double n = 0.2;                  ///< exponent of (4.4)
   double speed_window_start = 10e-6;  ///< steady crack speed fitted from this time [s]
   double speed_edge_margin = 2e-3;    ///< ... until the tip is this close to x = L [m]
+  /// Where nodes may break: x_min, x_max, y_min, y_max of the reference position [m];
+  /// empty = anywhere (fixed nodes never break).
+  std::vector<double> region;
 };
 
 /// Continuum damage (SPEC 6, paper section 5). beta1 = 0 switches it off.

@@ -302,6 +302,11 @@ TEST(LoadScene, FrameTimesList) {
                  {"bad.ini", "output.frame_times", "out of range"});
   expect_message(file_error(dir, std::string(kLoad) + "[output]\nframe_times = -1e-6 1e-6\n"),
                  {"bad.ini", "output.frame_times", "out of range", ">= 0"});
+  // fracture.region: four numbers, ordered pairs
+  expect_message(file_error(dir, std::string(kLoad) + "[fracture]\nregion = 0, 1, 2\n"),
+                 {"bad.ini", "fracture.region", "out of range"});
+  expect_message(file_error(dir, std::string(kLoad) + "[fracture]\nregion = 0, 1, 2, 1\n"),
+                 {"bad.ini", "fracture.region", "out of range"});
 }
 
 TEST(LoadScene, MeshFileIsRelativeToTheSceneFile) {

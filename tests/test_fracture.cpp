@@ -252,5 +252,22 @@ TEST(Branching, RunsToCompletionOnCoarseMesh) {
   expect_valid_grid(g, "branching");
 }
 
+// fracture.region limits where nodes break: a branching run confined to |y| <= 1 mm,
+// x <= 20 mm splits only nodes in there.
+TEST(Branching, RegionConfinesTheSplits) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 15e-6);
+  s.fracture.region = {0.0, 20e-3, -1e-3, 1e-3};
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const RunSummary r = sim.run({});
+  EXPECT_GT(r.splits, 0);
+  const Grid& g = sim.grid();
+  for (vtkIdType p = 0; p < g.num_points(); ++p)
+    if (g.crack()[p]) {
+      EXPECT_LE(std::abs(g.X()[3 * p + 1]), 1e-3 + 1e-12);
+      EXPECT_LE(g.X()[3 * p], 20e-3 + 1e-12);
+    }
+}
+
 }  // namespace
 }  // namespace brittle
