@@ -173,6 +173,23 @@ std::optional<std::vector<double>> parse_double_list(const std::string& text) {
   return out;
 }
 
+/// A list of times in s: comma/space separated, each >= 0, strictly ascending; empty = none.
+Key time_list(const std::string& name, const std::string& meaning,
+              std::vector<double>& (*target)(Scene&)) {
+  Key k = typed<std::string>(
+      name, "s", meaning, "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
+      [target](const std::string& v, const Source&, Scene& scene) {
+        auto list = parse_double_list(v);
+        if (!list) return Verdict::malformed;
+        for (std::size_t i = 0; i < list->size(); ++i)
+          if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1])) return Verdict::out_of_range;
+        target(scene) = std::move(*list);
+        return Verdict::ok;
+      });
+  k.type_word = "a list of numbers";
+  return k;
+}
+
 using MP = MaterialParams;
 using GP = GeometryParams;
 using MeP = MeshParams;
@@ -331,20 +348,10 @@ const std::vector<Key>& scene_keys() {
                            }));
     k.push_back(field("output.frame_interval", &Scene::output, &OP::frame_interval, "s",
                       "VTU frame every this much simulated time (0 = none)", ">= 0", non_negative));
-    k.push_back(typed<std::string>(
-        "output.frame_times", "s",
-        "explicit frame times, comma/space separated; override output.frame_interval",
-        "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
-        [](const std::string& v, const Source&, Scene& scene) {
-          auto list = parse_double_list(v);
-          if (!list) return Verdict::malformed;
-          for (std::size_t i = 0; i < list->size(); ++i)
-            if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1]))
-              return Verdict::out_of_range;
-          scene.output.frame_times = std::move(*list);
-          return Verdict::ok;
-        }));
-    k.back().type_word = "a list of numbers";
+    k.push_back(time_list("output.frame_times",
+                          "explicit frame times, comma/space separated; override "
+                          "output.frame_interval",
+                          [](Scene& s) -> std::vector<double>& { return s.output.frame_times; }));
     k.push_back(field("output.vtu", &Scene::output, &OP::vtu, "",
                       "write VTU frames + a PVD collection",
                       "true/false (also yes/no, on/off, 1/0)", [](const bool&) { return true; }));
@@ -355,19 +362,9 @@ const std::vector<Key>& scene_keys() {
                       "the initial energy",
                       "> 0", positive));
     // [render] — PNG frames through off-screen VTK (docs/rendering.md)
-    k.push_back(typed<std::string>(
-        "render.times", "s", "render PNG frames during the run at these times (also written as VTU)",
-        "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
-        [](const std::string& v, const Source&, Scene& scene) {
-          auto list = parse_double_list(v);
-          if (!list) return Verdict::malformed;
-          for (std::size_t i = 0; i < list->size(); ++i)
-            if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1]))
-              return Verdict::out_of_range;
-          scene.render.times = std::move(*list);
-          return Verdict::ok;
-        }));
-    k.back().type_word = "a list of numbers";
+    k.push_back(time_list("render.times",
+                          "render PNG frames during the run at these times (also written as VTU)",
+                          [](Scene& s) -> std::vector<double>& { return s.render.times; }));
     k.push_back(typed<std::string>(
         "render.fields", "", "which fields to render, comma/space separated",
         "sigma1 (sigma1/sigma_c) and/or damage (Omega)", std::string("sigma1, damage"),
