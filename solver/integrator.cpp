@@ -26,8 +26,8 @@ inline Vec3 point(const double* a, vtkIdType i) {
   return M;
 }
 
-/// Inverse and determinant of a 3x3 matrix from one set of cofactors.
-[[gnu::always_inline]] inline Mat3 inverse_with_det(const Mat3& A, double& det) {
+/// Inverse, determinant and its reciprocal of a 3x3 matrix from one set of cofactors.
+[[gnu::always_inline]] inline Mat3 inverse_with_det(const Mat3& A, double& det, double& inv_det) {
   Mat3 C;  // transposed cofactors (adjugate)
   C(0, 0) = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
   C(0, 1) = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
@@ -39,7 +39,8 @@ inline Vec3 point(const double* a, vtkIdType i) {
   C(2, 1) = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
   C(2, 2) = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
   det = A(0, 0) * C(0, 0) + A(0, 1) * C(1, 0) + A(0, 2) * C(2, 0);
-  return C * (1.0 / det);
+  inv_det = 1.0 / det;
+  return C * inv_det;
 }
 
 }  // namespace
@@ -103,6 +104,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElasticConstants& c)
       mu_(c.mu),
       element_force_(12 * grid.num_cells(), 0.0),
       viscous_power_(grid.num_cells(), 0.0),
+      viscous_stress_(6 * grid.num_cells(), 0.0),
       volume_(grid.num_cells(), 0.0),
       sigma1_bound_(grid.num_cells(), 0.0) {
   rebuild(grid);
@@ -129,6 +131,7 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
   double* stress = grid.stress();
   double* ef = element_force_.data();
   double* vp = viscous_power_.data();
+  double* sv = viscous_stress_.data();
   double* volume = volume_.data();
   double* bound = sigma1_bound_.data();
   const double K = K_, mu = mu_;
@@ -140,17 +143,17 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
     const Mat3 Ds = edge_matrix(x, n);
     const Mat3 Vs = edge_matrix(v, n);
     const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
-    double det_Ds;
+    double det_Ds, inv_det_Ds;
     // G = Ds^-1 = Dm^-1 F^-1: its rows are the current gradients of N1..N3.
-    const Mat3 G = inverse_with_det(Ds, det_Ds);
-    const double vol = det_Ds / 6.0;
+    const Mat3 G = inverse_with_det(Ds, det_Ds, inv_det_Ds);
+    const double vol = det_Ds * (1.0 / 6.0);
     const double J = vol * el.inv_V0[e];  // det F = det Ds / det Dm
     if (!(J > 0.0)) {  // inverted, degenerate or NaN: report, leave forces of this element
       first_bad = std::min(first_bad, e);
       continue;
     }
     const Mat3 F = Ds * Dm_inv;
-    const Mat3 T_el = elastic_stress(F, J, K, mu, Omega[e]);  // (B.4)
+    const Mat3 T_el = elastic_stress(F, J, 6.0 * el.V0[e] * inv_det_Ds, K, mu, Omega[e]);  // (B.4)
     const Mat3 L = Vs * G;                                   // velocity gradient
     const Mat3 D = 0.5 * (L + L.transpose());
     const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
@@ -164,7 +167,16 @@ vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
       out[6 + k] = f(k, 1);
       out[9 + k] = f(k, 2);
     }
-    vp[e] = vol * (T_v.cwiseProduct(D)).sum();
+    // Viscous dissipation of the step as the central difference does the work: the forces of
+    // the last step and of this one, both on this step's motion, -(f_v(n) + f_v(n+1)).v(n+1/2)/2
+    // = (S(n) + S(n+1)) : D / 2 with S = v T_v (up to the change of shape over one step).
+    // Using S(n+1) alone is first order in dt and drifts once cracks ring.
+    double* S = sv + 6 * e;
+    const double S_old_D = S[0] * D(0, 0) + S[1] * D(1, 1) + S[2] * D(2, 2) +
+                           2 * (S[3] * D(0, 1) + S[4] * D(1, 2) + S[5] * D(0, 2));
+    vp[e] = 0.5 * (vol * T_v.cwiseProduct(D).sum() + S_old_D);
+    S[0] = vol * T_v(0, 0), S[1] = vol * T_v(1, 1), S[2] = vol * T_v(2, 2);
+    S[3] = vol * T_v(0, 1), S[4] = vol * T_v(1, 2), S[5] = vol * T_v(0, 2);
     volume[e] = vol;
     bound[e] = (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs()))
                    .maxCoeff();

@@ -50,11 +50,12 @@ class ForceAssembler {
 
   /// Computes elastic + viscous nodal forces at the grid's current x and v into `force`
   /// (3 per point), the elastic stress into the grid's "stress" cell array, and per-element
-  /// viscous power v T_v : D. Returns the index of the first element with J <= 0 or NaN,
+  /// viscous power of the step: the trapezoid (S(n) + S(n+1)) : D(n+1/2) / 2, S = v T_v, the
+  /// work the viscous forces do in the central-difference step. Returns the index of the first element with J <= 0 or NaN,
   /// or -1 if none.
   vtkIdType compute(const Grid& grid, const ElementData& elements, std::vector<double>& force);
 
-  /// Sum over elements of v T_v : D from the last compute() (deterministic order).
+  /// Sum over elements of the viscous power from the last compute() (deterministic order).
   double viscous_power() const;
 
   /// From the last compute(): the 3 force components on corner c of element e at
@@ -73,6 +74,7 @@ class ForceAssembler {
   double K_, mu_;
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
   std::vector<double> viscous_power_;   // 1 per element
+  std::vector<double> viscous_stress_;  // 6 per element: v T_v of the last step
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element
   std::vector<vtkIdType> node_start_;     // CSR: node -> range in node_entries_

@@ -33,29 +33,32 @@ double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
 /// round-off for |J - 1| < 0.05 (errors 6e-4 -> 7e-7 -> 1e-12 -> 1e-24). Else 1/cbrt(J).
 inline double inverse_cbrt(double J) {
   if (std::abs(J - 1.0) >= 0.05) return 1.0 / std::cbrt(J);
-  double y = (4.0 - J) / 3.0;
+  double y = (4.0 - J) * (1.0 / 3.0);
   for (int i = 0; i < 3; ++i) y *= (4.0 - J * y * y * y) * (1.0 / 3.0);
   return y;
 }
 
-/// T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)]   (B.4), J = det F given.
-inline Mat3 elastic_stress(const Mat3& F, double J, double K, double mu, double Omega) {
+/// T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)]   (B.4), with J = det F and
+/// 1/J given (the step loop has both without a division).
+inline Mat3 elastic_stress(const Mat3& F, double J, double inv_J, double K, double mu,
+                           double Omega) {
   const Mat3 B = F * F.transpose();
   const double y = inverse_cbrt(J), y2 = y * y;
   const double mu_J53 = mu * y2 * y2 * y;  // mu J^(-5/3) without pow()
   Mat3 T = mu_J53 * B;
-  T.diagonal().array() += -K * (1.0 / J - 1.0) - mu_J53 * B.trace() / 3.0;
+  T.diagonal().array() += -K * (inv_J - 1.0) - mu_J53 * (B.trace() * (1.0 / 3.0));
   return (1.0 - Omega) * T;
 }
 inline Mat3 elastic_stress(const Mat3& F, double K, double mu, double Omega) {
-  return elastic_stress(F, F.determinant(), K, mu, Omega);
+  const double J = F.determinant();
+  return elastic_stress(F, J, 1.0 / J, K, mu, Omega);
 }
 
 /// T_v = zeta1 rho0 c_p h_e tr(D) I + 2 zeta2 rho0 c_s h_e dev(D)   (B.5, SPEC 2)
 inline Mat3 viscous_stress(const Mat3& D, double eta_dil, double eta_dev) {
   const double trD = D.trace();
   Mat3 T = 2.0 * eta_dev * D;
-  T.diagonal().array() += (eta_dil - 2.0 * eta_dev / 3.0) * trD;
+  T.diagonal().array() += (eta_dil - eta_dev * (2.0 / 3.0)) * trD;
   return T;
 }
 
