@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace brittle {
 namespace {
@@ -66,8 +67,8 @@ CohesiveLink split_link(CohesiveLink& link, vtkIdType old_node, vtkIdType new_no
     (std::binary_search(new_cells.begin(), new_cells.end(), cell) ? move : stay).push_back(face);
   }
   const double f0 = link.f0, ratio = m1 / (m1 + m2);
-  link.f0 = ratio * f0;        // (A.1)
-  part.f0 = f0 - link.f0;      // so that f01 + f02 = f0 exactly (A.2)
+  link.f0 = ratio * f0;    // (A.1)
+  part.f0 = f0 - link.f0;  // so that f01 + f02 = f0 exactly (A.2)
   link.faces = std::move(stay);
   part.faces = std::move(move);
   link.A_c = area_of(link.faces);
@@ -81,6 +82,100 @@ CohesiveLink split_link(CohesiveLink& link, vtkIdType old_node, vtkIdType new_no
   link.dissipated = ratio * dissipated;
   part.dissipated = dissipated - link.dissipated;
   return part;
+}
+
+CohesiveLinks::CohesiveLinks(const CohesiveLaw& law, vtkIdType num_points) : law_(law) {
+  linked_.assign(num_points, 0);
+}
+
+void CohesiveLinks::add(CohesiveLink link, vtkIdType num_points) {
+  links_.push_back(std::move(link));
+  refresh_linked(num_points);
+}
+
+void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double m1, double m2,
+                                 const std::vector<vtkIdType>& new_cells, vtkIdType num_points) {
+  const std::size_t held = links_.size();
+  for (std::size_t i = 0; i < held; ++i)
+    if (links_[i].a == old_node || links_[i].b == old_node)
+      links_.push_back(split_link(links_[i], old_node, new_node, m1, m2, new_cells, law_));
+  if (links_.size() != held) refresh_linked(num_points);
+}
+
+int CohesiveLinks::substeps_needed(const Grid& grid, double dt) const {
+  const double* m = grid.mass();
+  double needed = 1;
+  for (const CohesiveLink& l : links_) {
+    if (l.delta_c <= 0 || l.broken()) continue;
+    const double k = l.f0 * (1 - l.omega) / std::max(l.delta_max, 1e-3 * l.delta_c);
+    const double m_red = m[l.a] * m[l.b] / (m[l.a] + m[l.b]);
+    needed = std::max(
+        {needed, dt * std::sqrt(k / m_red) / 0.5, l.opening_rate * dt / (0.02 * l.delta_c)});
+  }
+  // (a NaN or huge need is reported as "more than the cap")
+  return needed < 1e6 ? static_cast<int>(std::ceil(needed)) : 1000000;
+}
+
+void CohesiveLinks::kick(Grid& grid, double tau) const {
+  const double* x = grid.x();
+  double* v = grid.v();
+  const double* m = grid.mass();
+  for (const CohesiveLink& l : links_) {
+    const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
+    const double delta = d.norm();
+    const Vec3 e = delta > 1e-9 * l.delta_c && delta > 0 ? Vec3(d / delta) : l.e0;
+    for (int k = 0; k < 3; ++k) {
+      v[3 * l.a + k] += tau * l.f * e[k] / m[l.a];
+      v[3 * l.b + k] -= tau * l.f * e[k] / m[l.b];
+    }
+  }
+}
+
+void CohesiveLinks::advance_law(const Grid& grid, double h) {
+  const double* x = grid.x();
+  for (CohesiveLink& l : links_)
+    advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), h, law_);
+}
+
+void CohesiveLinks::begin_step() {
+  delta_start_.resize(links_.size());
+  for (std::size_t i = 0; i < links_.size(); ++i) delta_start_[i] = links_[i].delta;
+}
+
+void CohesiveLinks::end_step(double dt) {
+  for (std::size_t i = 0; i < links_.size(); ++i)
+    links_[i].opening_rate = std::abs(links_[i].delta - delta_start_[i]) / dt;
+}
+
+std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
+  const std::size_t before = links_.size();
+  for (const CohesiveLink& l : links_)
+    if (l.broken()) removed_dissipated_ += l.dissipated;
+  std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });
+  if (links_.size() != before) refresh_linked(num_points);
+  return before - links_.size();
+}
+
+void CohesiveLinks::refresh_linked(vtkIdType num_points) {
+  for (vtkIdType p : linked_nodes_) linked_[p] = 0;
+  linked_.resize(num_points, 0);
+  linked_nodes_.clear();
+  for (const CohesiveLink& l : links_) linked_nodes_.push_back(l.a), linked_nodes_.push_back(l.b);
+  std::sort(linked_nodes_.begin(), linked_nodes_.end());
+  linked_nodes_.erase(std::unique(linked_nodes_.begin(), linked_nodes_.end()), linked_nodes_.end());
+  for (vtkIdType p : linked_nodes_) linked_[p] = 1;
+}
+
+double CohesiveLinks::stored_energy() const {
+  double s = 0;
+  for (const CohesiveLink& l : links_) s += l.stored();
+  return s;
+}
+
+double CohesiveLinks::dissipated_energy() const {
+  double s = removed_dissipated_;
+  for (const CohesiveLink& l : links_) s += l.dissipated;
+  return s;
 }
 
 }  // namespace brittle

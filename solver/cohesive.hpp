@@ -2,10 +2,12 @@
 // f = f0 (1 - omega) delta / delta_max (2.8), omega by (3.5) or (4.4), granddaughters (A.1).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <vtkType.h>
 
+#include "grid.hpp"
 #include "material.hpp"
 
 namespace brittle {
@@ -59,5 +61,64 @@ void advance_link(CohesiveLink& link, double delta, double dt, const CohesiveLaw
 CohesiveLink split_link(CohesiveLink& link, vtkIdType old_node, vtkIdType new_node, double m1,
                         double m2, const std::vector<vtkIdType>& new_cells,
                         const CohesiveLaw& law);
+
+/// The live links and the nodes that hold them. Fracture adds links when it splits; the
+/// integrator moves the linked nodes through the links' sub-steps (integrator.cpp).
+class CohesiveLinks {
+ public:
+  CohesiveLinks(const CohesiveLaw& law, vtkIdType num_points);
+
+  const CohesiveLaw& law() const { return law_; }
+  const std::vector<CohesiveLink>& links() const { return links_; }
+  bool empty() const { return links_.empty(); }
+  /// 1 for nodes that hold a link (they drift in the links' sub-steps, not in the plain drift).
+  const std::vector<std::uint8_t>& linked() const { return linked_; }
+  /// The nodes that hold a link, ascending.
+  const std::vector<vtkIdType>& linked_nodes() const { return linked_nodes_; }
+
+  /// A new link (2.6) for the split of a node into a and b (the grid has num_points now).
+  void add(CohesiveLink link, vtkIdType num_points);
+
+  /// Granddaughters (Appendix A): node `old_node` split into itself (mass m1) and `new_node`
+  /// (mass m2, adopted by the sorted `new_cells`): every link it held is cut in two (split_link).
+  void cut_links_of(vtkIdType old_node, vtkIdType new_node, double m1, double m2,
+                    const std::vector<vtkIdType>& new_cells, vtkIdType num_points);
+
+  /// Sub-steps the links need over an element step dt: every link spring k = f0 (1 - omega) /
+  /// delta_max (delta_max taken at least 1e-3 delta_c) turns at most 0.5 rad per sub-step, and
+  /// every link opens by at most 2 % of delta_c per sub-step at last step's rate. At least 1;
+  /// may exceed max_substeps (the caller caps it and says so).
+  int substeps_needed(const Grid& grid, double dt) const;
+  static constexpr int max_substeps = 256;
+
+  /// Kicks a by +f e and b by -f e over tau, e = (x_b - x_a) / delta (2.7), the creation
+  /// direction (2.9) while delta is round-off.
+  void kick(Grid& grid, double tau) const;
+
+  /// Moves every link's law to the current openings over a sub-step h (advance_link).
+  void advance_law(const Grid& grid, double h);
+
+  /// Remembers the openings at the start of an element step / sets the opening rates over
+  /// it (used by substeps_needed the next step).
+  void begin_step();
+  void end_step(double dt);
+
+  /// Removes the links whose omega reached 1; what they dissipated stays in the budget.
+  /// Returns how many went.
+  std::size_t remove_broken(vtkIdType num_points);
+
+  double stored_energy() const;      ///< sum of V_c over live links (3.1)
+  double dissipated_energy() const;  ///< integral of D_c, removed links included (3.3)
+
+ private:
+  void refresh_linked(vtkIdType num_points);
+
+  CohesiveLaw law_;
+  std::vector<CohesiveLink> links_;
+  std::vector<std::uint8_t> linked_;
+  std::vector<vtkIdType> linked_nodes_;
+  std::vector<double> delta_start_;  // per link, at begin_step
+  double removed_dissipated_ = 0;
+};
 
 }  // namespace brittle

@@ -2,42 +2,69 @@
 #include "damage.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 
 namespace brittle {
 
-double update_damage(Grid& grid, const ElementData& el, const ForceAssembler& forces,
-                     const ElasticConstants& c, double sigma_c, const DamageParams& p, double dt,
-                     std::vector<double>& block_sums) {
+Damage::Damage(const DamageParams& params, const ElasticConstants& c, double sigma_c,
+               vtkIdType num_cells)
+    : params_(params), K_(c.K), mu_(c.mu), sigma_c_(sigma_c) {
+  if (!enabled()) return;
+  undamaged_energy_.assign(num_cells, 0.0);
+  evaluated_at_.assign(num_cells, -1);
+}
+
+double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces, double dt) {
   constexpr vtkIdType kBlock = 4096;
   const vtkIdType ne = grid.num_cells();
   const vtkIdType blocks = (ne + kBlock - 1) / kBlock;
-  block_sums.assign(blocks, 0.0);
-  const double *bound = forces.sigma1_bound(), *stress = grid.stress();
+  block_sums_.assign(blocks, 0.0);
+  block_cells_.resize(blocks);
+  const double* bound = forces.sigma1_bound();
   double* Omega = grid.damage();
-  const double threshold = p.beta3 * sigma_c;
+  const double threshold = params_.beta3 * sigma_c_, limit = params_.limit();
+  const long now = ++step_index_;
 
 #pragma omp parallel for schedule(static)
   for (vtkIdType b = 0; b < blocks; ++b) {
     double dissipated = 0.0;
+    std::vector<vtkIdType>& changed = block_cells_[b];
+    changed.clear();
     for (vtkIdType e = b * kBlock; e < std::min(ne, (b + 1) * kBlock); ++e) {
-      if (bound[e] <= threshold || Omega[e] >= p.limit()) continue;
-      const double* t = stress + 6 * e;
+      if (bound[e] <= threshold || Omega[e] >= limit) continue;
+      const double* t = grid.stress() + 6 * e;
       Mat3 T;
       T << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
       Eigen::SelfAdjointEigenSolver<Mat3> eig;
       eig.computeDirect(T, Eigen::EigenvaluesOnly);
-      const double Omega_new =
-          advance_damage(Omega[e], damage_target(eig.eigenvalues()[2], sigma_c, p), p.beta1, dt);
+      const double Omega_new = advance_damage(
+          Omega[e], damage_target(eig.eigenvalues()[2], sigma_c_, params_), params_.beta1, dt);
+      const double start_energy = undamaged_energy_[e];
+      const bool had_start = evaluated_at_[e] == now - 1;
+      const double end_energy =
+          el.V0[e] * strain_energy_density(deformation_gradient(grid, el, e), K_, mu_, 0.0);
+      undamaged_energy_[e] = end_energy;
+      evaluated_at_[e] = now;
       if (Omega_new == Omega[e]) continue;
-      // dissipation V0 rho0 Sigma* dOmega at the deformation the stress was computed at
-      const Mat3 F = deformation_gradient(grid, el, e);
-      dissipated += el.V0[e] * strain_energy_density(F, c.K, c.mu, 0.0) * (Omega_new - Omega[e]);
+      dissipated +=
+          0.5 * ((had_start ? start_energy : end_energy) + end_energy) * (Omega_new - Omega[e]);
+      forces.scale_elastic(grid, e, (1.0 - Omega_new) / (1.0 - Omega[e]));
       Omega[e] = Omega_new;
+      changed.push_back(e);
     }
-    block_sums[b] = dissipated;
+    block_sums_[b] = dissipated;
   }
+  // Nodal sums of the corners of the changed cells, each node once.
+  touched_nodes_.clear();
+  for (const auto& changed : block_cells_)
+    for (vtkIdType e : changed)
+      touched_nodes_.insert(touched_nodes_.end(), grid.cells() + 4 * e, grid.cells() + 4 * e + 4);
+  std::sort(touched_nodes_.begin(), touched_nodes_.end());
+  touched_nodes_.erase(std::unique(touched_nodes_.begin(), touched_nodes_.end()),
+                       touched_nodes_.end());
+  forces.gather(touched_nodes_);
   double total = 0.0;
-  for (double s : block_sums) total += s;
+  for (double s : block_sums_) total += s;
   return total;
 }
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "grid.hpp"
-#include "integrator.hpp"
+#include "element_forces.hpp"
 #include "scene.hpp"
 
 namespace brittle {
@@ -24,13 +24,35 @@ inline double advance_damage(double Omega, double Omega_d, double beta1, double 
   return Omega_d > Omega ? Omega + (Omega_d - Omega) * -std::expm1(-beta1 * dt) : Omega;
 }
 
-/// Advances Omega of every element over dt with the elastic stresses of the last force
-/// computation, and returns the energy it dissipated: sum V0 rho0 Sigma* dOmega, Sigma* the
-/// undamaged energy (5.1) at the current deformation. Elements whose stress bound is below
-/// beta3 sigma_c are skipped (their Omega_d is 0). The sum is taken over fixed blocks of
-/// cells, so it does not depend on the thread count.
-double update_damage(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
-                     const ElasticConstants& c, double sigma_c, const DamageParams& p, double dt,
-                     std::vector<double>& block_sums);
+/// Omega of every element (5.2)-(5.3) and the energy its growth dissipates (5.1).
+class Damage {
+ public:
+  Damage(const DamageParams& params, const ElasticConstants& c, double sigma_c,
+         vtkIdType num_cells);
+
+  bool enabled() const { return params_.enabled(); }
+
+  /// Advances Omega over the step that ends now, from the elastic stresses of the force
+  /// computation at its end, and brings those elements' stresses and elastic forces to the
+  /// new Omega (ForceAssembler::scale_elastic; nodal sums redone), so that the closing kick
+  /// and the next step's opening kick act with the Omega the energy is booked with. Returns
+  /// the energy dissipated: V0 rho0 Sigma* dOmega with Sigma* the undamaged energy (5.1) as
+  /// the trapezoid of its values at the start and the end of the step (the work the
+  /// central-difference kicks do along a step in which x and Omega both change); elements
+  /// that were not evaluated the step before use the end value. Elements whose stress bound
+  /// is at most beta3 sigma_c are skipped (their Omega_d is 0). Sums over fixed blocks of
+  /// cells: independent of the thread count.
+  double update(Grid& grid, const ElementData& elements, ForceAssembler& forces, double dt);
+
+ private:
+  DamageParams params_;
+  double K_, mu_, sigma_c_;
+  long step_index_ = 0;                   // updates done so far
+  std::vector<double> undamaged_energy_;  // per cell: V0 rho0 Sigma* at its last evaluation
+  std::vector<long> evaluated_at_;        // per cell: the update index of that evaluation
+  std::vector<double> block_sums_;
+  std::vector<std::vector<vtkIdType>> block_cells_;  // cells whose Omega changed, per block
+  std::vector<vtkIdType> touched_nodes_;
+};
 
 }  // namespace brittle

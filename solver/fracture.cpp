@@ -14,15 +14,14 @@
 
 namespace brittle {
 
-Fracture::Fracture(const Scene& scene, const Grid& grid)
+Fracture::Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links)
     : mode_(scene.fracture.mode),
       region_(scene.fracture.region),
       sigma_c_(scene.material.sigma_c),
       rho0_(scene.material.rho0),
-      law_{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
+      links_(links),
       tip_x_(std::numeric_limits<double>::quiet_NaN()),
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
-  linked_.assign(grid.num_points(), 0);
   root_.resize(grid.num_points());
   for (vtkIdType p = 0; p < grid.num_points(); ++p) root_[p] = p;
   if (mode_ != FractureParams::Mode::straight) return;
@@ -98,15 +97,23 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 }
 
 std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements,
-                                         const ForceAssembler& forces,
+                                         ForceAssembler& forces,
                                          const std::vector<SplitCandidate>& candidates) {
   std::vector<SplitRecord> records;
   for (const SplitCandidate& c : candidates) {
     SplitRecord r;
     if (split_one(grid, elements, forces, c, r)) records.push_back(r);
   }
-  if (!records.empty()) refresh_linked(grid.num_points());
+  if (!records.empty()) forces.rebuild(grid);  // node table and nodal sums of the new topology
   return records;
+}
+
+std::vector<SplitRecord> Fracture::split_nodes(Grid& grid, const ElementData& elements,
+                                               ForceAssembler& forces) {
+  if (!enabled()) return {};
+  const std::vector<SplitCandidate> over = candidates(grid, forces);
+  if (over.empty()) return {};
+  return split(grid, elements, forces, over);
 }
 
 bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
@@ -189,126 +196,18 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   grid.mass()[r.b] = r.m_b;
 
   // Granddaughters: every link K holds is cut in two (Appendix A).
-  const std::size_t held = links_.size();
-  for (std::size_t i = 0; i < held; ++i)
-    if (links_[i].a == K || links_[i].b == K)
-      links_.push_back(split_link(links_[i], K, r.b, r.m_a, r.m_b, b_cells, law_));
+  links_.cut_links_of(K, r.b, r.m_a, r.m_b, b_cells, grid.num_points());
 
   // f0 = (m_A F_B - m_B F_A) / (m_A + m_B)   (2.6)
   r.f0 = (r.m_a * r.F_b - r.m_b * r.F_a) / (r.m_a + r.m_b);
-  CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), law_);
+  CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), links_.law());
   r.A_c = link.A_c;
   crack_area_ += r.A_c;
-  if (link.f0 > 0) links_.push_back(std::move(link));
+  if (link.f0 > 0) links_.add(std::move(link), grid.num_points());
 
   ++splits_;
   if (std::isnan(tip_x_) || XK.x() > tip_x_) tip_x_ = XK.x(), tip_y_ = XK.y();
   return true;
-}
-
-int Fracture::choose_substeps(const Grid& grid, double dt) const {
-  // Two limits per link: its spring k = f0 (1 - omega) / delta_max (delta_max taken at
-  // least 1e-3 delta_c; the law's own softening slope is f0 / delta_c) turns at most
-  // 0.5 rad per sub-step; and the opening (at last step's rate) grows by at most 2 % of
-  // delta_c per sub-step, so that the law (2.8), (4.4) is followed closely to omega = 1.
-  const double* m = grid.mass();
-  double needed = 1;
-  for (const CohesiveLink& l : links_) {
-    if (l.delta_c <= 0 || l.broken()) continue;
-    const double k = l.f0 * (1 - l.omega) / std::max(l.delta_max, 1e-3 * l.delta_c);
-    const double m_red = m[l.a] * m[l.b] / (m[l.a] + m[l.b]);
-    needed = std::max({needed, dt * std::sqrt(k / m_red) / 0.5,
-                       l.opening_rate * dt / (0.02 * l.delta_c)});
-  }
-  constexpr int kMaxSubsteps = 256;
-  return std::min(static_cast<int>(std::ceil(needed)), kMaxSubsteps);
-}
-
-void Fracture::advance_links(Grid& grid, double dt) {
-  substeps_ = 0;
-  if (links_.empty()) return;
-  substeps_ = choose_substeps(grid, dt);
-  const double h = dt / substeps_;
-  double *x = grid.x(), *v = grid.v();
-  const double* m = grid.mass();
-  // Kick a and b by +-f e over a half sub-step; e = (x_b - x_a) / delta (2.7), the creation
-  // direction (2.9) while delta is round-off.
-  auto kick = [&](double tau) {
-    for (const CohesiveLink& l : links_) {
-      const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
-      const double delta = d.norm();
-      const Vec3 e = delta > 1e-9 * l.delta_c && delta > 0 ? Vec3(d / delta) : l.e0;
-      for (int k = 0; k < 3; ++k) {
-        v[3 * l.a + k] += tau * l.f * e[k] / m[l.a];
-        v[3 * l.b + k] -= tau * l.f * e[k] / m[l.b];
-      }
-    }
-  };
-  std::vector<double>& delta_start = delta_start_;
-  delta_start.resize(links_.size());
-  for (std::size_t i = 0; i < links_.size(); ++i) delta_start[i] = links_[i].delta;
-  start_x_.resize(3 * linked_nodes_.size());
-  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
-    for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * linked_nodes_[i] + k];
-  step_ = dt;
-  for (int s = 0; s < substeps_; ++s) {
-    kick(0.5 * h);
-    for (vtkIdType p : linked_nodes_)
-      for (int k = 0; k < 3; ++k) x[3 * p + k] += h * v[3 * p + k];
-    for (CohesiveLink& l : links_)
-      advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), h, law_);
-    kick(0.5 * h);
-  }
-  for (std::size_t i = 0; i < links_.size(); ++i)
-    links_[i].opening_rate = std::abs(links_[i].delta - delta_start[i]) / dt;
-}
-
-void Fracture::swap_in_mean_velocities(Grid& grid) {
-  if (start_x_.empty()) return;
-  double *x = grid.x(), *v = grid.v();
-  saved_v_.resize(start_x_.size());
-  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const vtkIdType j = 3 * linked_nodes_[i] + k;
-      saved_v_[3 * i + k] = v[j];
-      v[j] = (x[j] - start_x_[3 * i + k]) / step_;
-    }
-}
-
-void Fracture::restore_velocities(Grid& grid) {
-  if (start_x_.empty()) return;
-  double* v = grid.v();
-  for (std::size_t i = 0; i < linked_nodes_.size(); ++i)
-    for (int k = 0; k < 3; ++k) v[3 * linked_nodes_[i] + k] = saved_v_[3 * i + k];
-  start_x_.clear();
-  // Links whose omega reached 1 go now that nobody needs the node list of this step.
-  const std::size_t before = links_.size();
-  for (const CohesiveLink& l : links_)
-    if (l.broken()) removed_dissipated_ += l.dissipated;
-  std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });
-  if (links_.size() != before) refresh_linked(grid.num_points());
-}
-
-void Fracture::refresh_linked(vtkIdType num_points) {
-  for (vtkIdType p : linked_nodes_) linked_[p] = 0;
-  linked_.resize(num_points, 0);
-  linked_nodes_.clear();
-  for (const CohesiveLink& l : links_) linked_nodes_.push_back(l.a), linked_nodes_.push_back(l.b);
-  std::sort(linked_nodes_.begin(), linked_nodes_.end());
-  linked_nodes_.erase(std::unique(linked_nodes_.begin(), linked_nodes_.end()), linked_nodes_.end());
-  for (vtkIdType p : linked_nodes_) linked_[p] = 1;
-}
-
-double Fracture::stored_energy() const {
-  double s = 0;
-  for (const CohesiveLink& l : links_) s += l.stored();
-  return s;
-}
-
-double Fracture::dissipated_energy() const {
-  double s = removed_dissipated_;
-  for (const CohesiveLink& l : links_) s += l.dissipated;
-  return s;
 }
 
 }  // namespace brittle

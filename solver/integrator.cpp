@@ -1,216 +1,142 @@
-// Element forces (B.4)+(B.5), deterministic assembly, lumped mass and the stable step.
+// The explicit step: velocity Verlet with RESPA sub-steps for the links (SPEC 4, paper 2.1, App.
+// B), damage and fracture at the end of the step, and the stable time step.
 #include "integrator.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Dense>
-
-#include "error.hpp"
-
 namespace brittle {
-namespace {
 
-using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-
-inline Vec3 point(const double* a, vtkIdType i) {
-  return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
-}
-
-/// Columns p1 - p0, p2 - p0, p3 - p0 of the four corners of tet e in array a.
-[[gnu::always_inline]] inline Mat3 edge_matrix(const double* a, const vtkIdType* n) {
-  const Vec3 p0 = point(a, n[0]);
-  Mat3 M;
-  for (int k = 0; k < 3; ++k) M.col(k) = point(a, n[k + 1]) - p0;
-  return M;
-}
-
-/// Inverse, determinant and its reciprocal of a 3x3 matrix from one set of cofactors.
-[[gnu::always_inline]] inline Mat3 inverse_with_det(const Mat3& A, double& det, double& inv_det) {
-  Mat3 C;  // transposed cofactors (adjugate)
-  C(0, 0) = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
-  C(0, 1) = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
-  C(0, 2) = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
-  C(1, 0) = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
-  C(1, 1) = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
-  C(1, 2) = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
-  C(2, 0) = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
-  C(2, 1) = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
-  C(2, 2) = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
-  det = A(0, 0) * C(0, 0) + A(0, 1) * C(1, 0) + A(0, 2) * C(2, 0);
-  inv_det = 1.0 / det;
-  return C * inv_det;
-}
-
-}  // namespace
-
-ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
-                              const MaterialParams& m) {
-  const vtkIdType ne = grid.num_cells();
-  ElementData d;
-  d.Dm_inv.resize(9 * ne);
-  d.V0.resize(ne);
-  d.inv_V0.resize(ne);
-  d.eta_dil.resize(ne);
-  d.eta_dev.resize(ne);
-  for (vtkIdType e = 0; e < ne; ++e) {
-    const Mat3 Dm = edge_matrix(grid.X(), grid.cells() + 4 * e);
-    const double V0 = Dm.determinant() / 6.0;
-    BRITTLE_CHECK(V0 > 0.0, "mesh: tetrahedron ", e, " has reference volume ", V0,
-                  " (expected > 0)");
-    Eigen::Map<RowMat3>(d.Dm_inv.data() + 9 * e) = Dm.inverse();
-    d.V0[e] = V0;
-    d.inv_V0[e] = 1.0 / V0;
-    const double h_e = std::cbrt(6.0 * std::sqrt(2.0) * V0);  // edge of the regular tet of volume V0
-    d.eta_dil[e] = m.zeta1 * c.rho0 * c.c_p * h_e;
-    d.eta_dev[e] = m.zeta2 * c.rho0 * c.c_s * h_e;
-  }
-  return d;
-}
-
-Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e) {
-  return edge_matrix(grid.x(), grid.cells() + 4 * e) *
-         Eigen::Map<const RowMat3>(elements.Dm_inv.data() + 9 * e);
-}
-
-void lump_masses(Grid& grid, const ElementData& elements, double rho0) {
-  double* mass = grid.mass();
-  std::fill(mass, mass + grid.num_points(), 0.0);
+StableStep stable_time_step(const Grid& grid, const ElementData& el, const ElasticConstants& c,
+                            double cfl) {
+  StableStep best;
+  best.dt = std::numeric_limits<double>::infinity();
+  const double *x = grid.x(), *V0 = el.V0.data();
   const vtkIdType* cells = grid.cells();
-  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
-    for (int k = 0; k < 4; ++k) mass[cells[4 * e + k]] += 0.25 * rho0 * elements.V0[e];
-}
-
-double stable_time_step(const Grid& grid, const ElasticConstants& c, const MaterialParams& m,
-                        double cfl) {
-  double h_min = std::numeric_limits<double>::infinity();
   for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
-    const vtkIdType* n = grid.cells() + 4 * e;
-    const Mat3 Ds = edge_matrix(grid.x(), n);
-    const double V = Ds.determinant() / 6.0;
+    const vtkIdType* n = cells + 4 * e;
+    const Vec3 p0(x + 3 * n[0]);
+    const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0,
+               d = Vec3(x + 3 * n[3]) - p0;
+    const double V = a.dot(b.cross(d)) / 6.0;
     // The smallest altitude is 3V over the largest face area.
-    const Vec3 a = Ds.col(0), b = Ds.col(1), d = Ds.col(2);
     const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(), d.cross(a).norm(),
                                         (b - a).cross(d - a).norm()});
-    h_min = std::min(h_min, 3.0 * V / face);
+    const double h = V > 0 ? 3.0 * V / face : 0.0;
+    // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
+    const double eta_P = el.eta_dil[e] + (4.0 / 3.0) * el.eta_dev[e];
+    const double xi = h > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * h) : 0.0;
+    const double dt = cfl * h / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+    if (!(dt >= best.dt)) best = {dt, e, h, xi};  // also takes a NaN, to report it
   }
-  const double zeta = std::max(m.zeta1, m.zeta2);
-  return cfl * h_min / c.c_p * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  return best;
 }
 
-ForceAssembler::ForceAssembler(const Grid& grid, const ElasticConstants& c)
-    : K_(c.K),
-      mu_(c.mu),
-      element_force_(12 * grid.num_cells(), 0.0),
-      viscous_power_(grid.num_cells(), 0.0),
-      viscous_stress_(6 * grid.num_cells(), 0.0),
-      volume_(grid.num_cells(), 0.0),
-      sigma1_bound_(grid.num_cells(), 0.0) {
-  rebuild(grid);
-}
-
-void ForceAssembler::rebuild(const Grid& grid) {
-  const vtkIdType np = grid.num_points(), ne = grid.num_cells();
-  const vtkIdType* cells = grid.cells();
-  node_start_.assign(np + 1, 0);
-  for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
-  for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
-  node_entries_.resize(4 * ne);
-  std::vector<vtkIdType> fill(node_start_.begin(), node_start_.end() - 1);
-  BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
-  for (vtkIdType i = 0; i < 4 * ne; ++i)
-    node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
-}
-
-vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el,
-                                  std::vector<double>& force) {
-  const vtkIdType ne = grid.num_cells();
-  const vtkIdType* cells = grid.cells();
-  const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
-  double* stress = grid.stress();
-  double* ef = element_force_.data();
-  double* vp = viscous_power_.data();
-  double* sv = viscous_stress_.data();
-  double* volume = volume_.data();
-  double* bound = sigma1_bound_.data();
-  const double K = K_, mu = mu_;
-  vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
-
-#pragma omp parallel for schedule(static) reduction(min : first_bad)
-  for (vtkIdType e = 0; e < ne; ++e) {
-    const vtkIdType* n = cells + 4 * e;
-    const Mat3 Ds = edge_matrix(x, n);
-    const Mat3 Vs = edge_matrix(v, n);
-    const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
-    double det_Ds, inv_det_Ds;
-    // G = Ds^-1 = Dm^-1 F^-1: its rows are the current gradients of N1..N3.
-    const Mat3 G = inverse_with_det(Ds, det_Ds, inv_det_Ds);
-    const double vol = det_Ds * (1.0 / 6.0);
-    const double J = vol * el.inv_V0[e];  // det F = det Ds / det Dm
-    if (!(J > 0.0)) {  // inverted, degenerate or NaN: report, leave forces of this element
-      first_bad = std::min(first_bad, e);
-      continue;
-    }
-    const Mat3 F = Ds * Dm_inv;
-    const Mat3 T_el = elastic_stress(F, J, 6.0 * el.V0[e] * inv_det_Ds, K, mu, Omega[e]);  // (B.4)
-    const Mat3 L = Vs * G;                                   // velocity gradient
-    const Mat3 D = 0.5 * (L + L.transpose());
-    const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
-    // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3)
-    const Mat3 f = -vol * (T_el + T_v) * G.transpose();
-    const Vec3 f0 = -f.rowwise().sum();
-    double* out = ef + 12 * e;
-    for (int k = 0; k < 3; ++k) {
-      out[k] = f0[k];
-      out[3 + k] = f(k, 0);
-      out[6 + k] = f(k, 1);
-      out[9 + k] = f(k, 2);
-    }
-    // Viscous dissipation of the step as the central difference does the work: the forces of
-    // the last step and of this one, both on this step's motion, -(f_v(n) + f_v(n+1)).v(n+1/2)/2
-    // = (S(n) + S(n+1)) : D / 2 with S = v T_v (up to the change of shape over one step).
-    // Using S(n+1) alone is first order in dt and drifts once cracks ring.
-    double* S = sv + 6 * e;
-    const double S_old_D = S[0] * D(0, 0) + S[1] * D(1, 1) + S[2] * D(2, 2) +
-                           2 * (S[3] * D(0, 1) + S[4] * D(1, 2) + S[5] * D(0, 2));
-    vp[e] = 0.5 * (vol * T_v.cwiseProduct(D).sum() + S_old_D);
-    S[0] = vol * T_v(0, 0), S[1] = vol * T_v(1, 1), S[2] = vol * T_v(2, 2);
-    S[3] = vol * T_v(0, 1), S[4] = vol * T_v(1, 2), S[5] = vol * T_v(0, 2);
-    volume[e] = vol;
-    bound[e] = (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs()))
-                   .maxCoeff();
-    double* s = stress + 6 * e;
-    s[0] = T_el(0, 0), s[1] = T_el(1, 1), s[2] = T_el(2, 2);
-    s[3] = T_el(0, 1), s[4] = T_el(1, 2), s[5] = T_el(0, 2);
-  }
-
-  gather(grid, force);
-  return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
-}
-
-void ForceAssembler::gather(const Grid& grid, std::vector<double>& force) const {
-  const vtkIdType np = grid.num_points();
-  force.resize(3 * np);
-  const vtkIdType* start = node_start_.data();
-  const std::int32_t* entries = node_entries_.data();
-  const double* ef = element_force_.data();
-  double* f = force.data();
+void Integrator::kick(const double* force, double tau) {
+  const vtkIdType np = grid_.num_points();
+  double* v = grid_.v();
+  const double* m = grid_.mass();
+  const std::uint8_t* fixed = grid_.fixed();
 #pragma omp parallel for schedule(static)
-  for (vtkIdType p = 0; p < np; ++p) {
-    double s0 = 0, s1 = 0, s2 = 0;
-    for (vtkIdType k = start[p]; k < start[p + 1]; ++k) {
-      const double* c = ef + 3 * entries[k];
-      s0 += c[0], s1 += c[1], s2 += c[2];
-    }
-    f[3 * p] = s0, f[3 * p + 1] = s1, f[3 * p + 2] = s2;
+  for (vtkIdType i = 0; i < np; ++i) {
+    if (fixed[i]) continue;
+    for (int k = 0; k < 3; ++k) v[3 * i + k] += tau * force[3 * i + k] / m[i];
   }
 }
 
-double ForceAssembler::viscous_power() const {
-  double sum = 0.0;
-  for (double p : viscous_power_) sum += p;
-  return sum;
+void Integrator::drift_unlinked(double dt) {
+  const vtkIdType np = grid_.num_points();
+  double* x = grid_.x();
+  const double* v = grid_.v();
+  const std::uint8_t *fixed = grid_.fixed(), *linked = links_.linked().data();
+#pragma omp parallel for schedule(static)
+  for (vtkIdType i = 0; i < np; ++i) {
+    if (fixed[i] || linked[i]) continue;  // linked nodes drift in advance_links
+    for (int k = 0; k < 3; ++k) x[3 * i + k] += dt * v[3 * i + k];
+  }
+}
+
+int Integrator::advance_links(double dt, bool& capped) {
+  capped = false;
+  if (links_.empty()) return 0;
+  // The weakening law unloads along f = f0 (1 - omega) delta / delta_max, a spring that no
+  // element-sized step resolves while delta_max is small: the links kick inside the step
+  // at h = dt / N (docs/model.md).
+  const int needed = links_.substeps_needed(grid_, dt);
+  capped = needed > CohesiveLinks::max_substeps;
+  const int substeps = std::min(needed, CohesiveLinks::max_substeps);
+  const double h = dt / substeps;
+  double* x = grid_.x();
+  const double* v = grid_.v();
+  const std::uint8_t* fixed = grid_.fixed();
+  moved_ = links_.linked_nodes();
+  const std::vector<vtkIdType>& nodes = moved_;
+  start_x_.resize(3 * nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * nodes[i] + k];
+  links_.begin_step();
+  for (int s = 0; s < substeps; ++s) {
+    links_.kick(grid_, 0.5 * h);
+    for (vtkIdType p : nodes)
+      if (!fixed[p])
+        for (int k = 0; k < 3; ++k) x[3 * p + k] += h * v[3 * p + k];
+    links_.advance_law(grid_, h);
+    links_.kick(grid_, 0.5 * h);
+  }
+  links_.end_step(dt);
+  return substeps;
+}
+
+vtkIdType Integrator::compute_element_forces(double dt) {
+  // The element viscosity (B.5) sees the rate at which the nodes moved over the step: for
+  // nodes that drifted through the links' sub-steps that is (x(n+1) - x(n)) / dt, not their
+  // velocity after the last sub-step. Swapped into the grid for the computation only.
+  const std::vector<vtkIdType>& nodes = moved_;
+  double *x = grid_.x(), *v = grid_.v();
+  if (!nodes.empty()) {
+    linked_v_.resize(3 * nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const vtkIdType j = 3 * nodes[i] + k;
+        linked_v_[3 * i + k] = v[j];
+        v[j] = (x[j] - start_x_[3 * i + k]) / dt;
+      }
+  }
+  const vtkIdType bad = forces_.compute(grid_, elements_);
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * nodes[i] + k] = linked_v_[3 * i + k];
+  moved_.clear();
+  return bad;
+}
+
+StepReport Integrator::step(double dt) {
+  StepReport r;
+  const double half_dt = 0.5 * dt;
+  kick(forces_.nodal_forces().data(), half_dt);
+  drift_unlinked(dt);
+  r.substeps = advance_links(dt, r.substeps_capped);
+  r.links_removed = links_.remove_broken(grid_.num_points());
+  r.bad_element = compute_element_forces(dt);
+  if (r.bad_element >= 0) return r;
+  r.viscous_dissipated = dt * forces_.viscous_power();
+  if (damage_.enabled()) r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
+  r.splits = fracture_.split_nodes(grid_, elements_, forces_);
+
+  kick(forces_.nodal_forces().data(), half_dt);
+  // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
+  // daughters keep K's acceleration (2.5). Without it, the unbalanced element forces of
+  // the daughters would open them by dt/2 (F_B/m_B - F_A/m_A) in velocity, an O(dt)
+  // error in energy at every split; the links' later impulses come from the sub-steps.
+  double* v = grid_.v();
+  const double* m = grid_.mass();
+  for (const SplitRecord& s : r.splits) {
+    for (int k = 0; k < 3; ++k) {
+      v[3 * s.a + k] += half_dt * s.f0[k] / m[s.a];
+      v[3 * s.b + k] -= half_dt * s.f0[k] / m[s.b];
+    }
+  }
+  return r;
 }
 
 }  // namespace brittle

@@ -1,84 +1,88 @@
-// Explicit central-difference dynamics of linear tets with lumped mass (paper 2.1, App. B):
-// per-element forces (B.4)+(B.5), deterministic assembly, the stable time step (SPEC 4).
+// The explicit step (SPEC 4): velocity Verlet for the outer forces (elements) with the nodal
+// cohesive links as inner forces sub-cycled inside it (RESPA), then damage and fracture; the
+// stable time step and its re-check as elements distort.
 #pragma once
 
-#include <cstdint>
+#include <string>
 #include <vector>
 
+#include "cohesive.hpp"
+#include "damage.hpp"
+#include "element_forces.hpp"
+#include "fracture.hpp"
 #include "grid.hpp"
 #include "material.hpp"
 
 namespace brittle {
 
-/// Per-element constants, struct of arrays indexed by cell (reference configuration).
-struct ElementData {
-  std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
-  std::vector<double> V0;       ///< reference volume
-  std::vector<double> inv_V0;   ///< 1 / V0
-  std::vector<double> eta_dil;  ///< zeta1 rho0 c_p h_e: bulk viscosity of the element
-  std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
+/// The smallest stable step of the grid's elements at their current shape (SPEC 4):
+/// dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) - xi_e), h_e = the element's smallest altitude
+/// (3V / largest face area), xi_e = its damping ratio at that size. `element` is the
+/// element that sets it.
+struct StableStep {
+  double dt = 0;
+  vtkIdType element = -1;
+  double altitude = 0;  ///< h_e of that element [m]
+  double xi = 0;        ///< xi_e of that element
 };
 
-/// F = Ds Dm^-1 of element e at the grid's current positions (outside the step loop).
-Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e);
+/// Damping ratio of the P mode of an element of altitude h: xi = eta_P / (rho0 c_p h),
+/// eta_P = eta_dil + 4/3 eta_dev (the viscosity of (B.5) in uniaxial strain), so that
+/// xi = (zeta1 + 4/3 zeta2 c_s / c_p) h_ref / h with h_ref the element's viscous length.
+/// For an element at its reference shape the nominal ratio is zeta_nominal (see .cpp).
+StableStep stable_time_step(const Grid& grid, const ElementData& elements,
+                            const ElasticConstants& c, double cfl);
 
-/// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
-/// brittle::Error for a cell with non-positive reference volume.
-ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const MaterialParams& m);
+/// What one step did, for the simulation's bookkeeping and warnings.
+struct StepReport {
+  double viscous_dissipated = 0;  ///< dt * viscous power of the step
+  double damage_dissipated = 0;   ///< energy the damage update dissipated (5.1)
+  int substeps = 0;               ///< link sub-steps used (0 without links)
+  bool substeps_capped = false;   ///< the links needed more than CohesiveLinks::max_substeps
+  std::size_t links_removed = 0;  ///< links whose omega reached 1 this step
+  std::vector<SplitRecord> splits;
+  vtkIdType bad_element = -1;  ///< first inverted / NaN element (the step is not valid)
+};
 
-/// Lumped masses: each node gets rho0 V0 / 4 from each of its elements (2.1).
-void lump_masses(Grid& grid, const ElementData& elements, double rho0);
-
-/// dt = cfl * min over elements (min altitude, current configuration) / c_p, reduced by
-/// sqrt(1 + zeta^2) - zeta for the viscous term (zeta = max(zeta1, zeta2)).
-double stable_time_step(const Grid& grid, const ElasticConstants& c, const MaterialParams& m,
-                        double cfl);
-
-/// Nodal internal forces. Elements write their 12 force components into a buffer in cell
-/// order; each node then sums its (element, corner) entries in a fixed order. No atomics and
-/// no reductions over threads, so results are bitwise independent of the thread count.
-class ForceAssembler {
+/// Owns the order of a step; the mechanisms (elements, links, damage, fracture) are owned by
+/// the Simulation and passed in.
+class Integrator {
  public:
-  ForceAssembler(const Grid& grid, const ElasticConstants& c);
+  Integrator(Grid& grid, const ElementData& elements, ForceAssembler& forces, CohesiveLinks& links,
+             Damage& damage, Fracture& fracture)
+      : grid_(grid),
+        elements_(elements),
+        forces_(forces),
+        links_(links),
+        damage_(damage),
+        fracture_(fracture) {}
 
-  /// Rebuilds the node -> (element, corner) table (after topology changes; splits never
-  /// change the number of cells).
-  void rebuild(const Grid& grid);
-
-  /// Sums the element forces of the last compute() into nodal forces (after a rebuild).
-  void gather(const Grid& grid, std::vector<double>& force) const;
-
-  /// Computes elastic + viscous nodal forces at the grid's current x and v into `force`
-  /// (3 per point), the elastic stress into the grid's "stress" cell array, and per-element
-  /// viscous power of the step: the trapezoid (S(n) + S(n+1)) : D(n+1/2) / 2, S = v T_v, the
-  /// work the viscous forces do in the central-difference step. Returns the index of the first element with J <= 0 or NaN,
-  /// or -1 if none.
-  vtkIdType compute(const Grid& grid, const ElementData& elements, std::vector<double>& force);
-
-  /// Sum over elements of the viscous power from the last compute() (deterministic order).
-  double viscous_power() const;
-
-  /// From the last compute(): the 3 force components on corner c of element e at
-  /// element_forces()[12 e + 3 c]; current volumes; an upper bound of the largest principal
-  /// value of T_el per element (Gershgorin), which also bounds every nodal average (2.10).
-  const double* element_forces() const { return element_force_.data(); }
-  const double* volumes() const { return volume_.data(); }
-  const double* sigma1_bound() const { return sigma1_bound_.data(); }
-
-  /// Node -> (4 element + corner) entries, in cell order: node p owns
-  /// node_entries()[node_start()[p] .. node_start()[p + 1]).
-  const std::vector<vtkIdType>& node_start() const { return node_start_; }
-  const std::vector<std::int32_t>& node_entries() const { return node_entries_; }
+  /// One step of length dt from t(n) to t(n+1):
+  ///   kick    v += dt/2 F(n)/m                        outer forces at t(n), free nodes
+  ///   drift   x += dt v                               nodes that hold no link
+  ///   links   N x [kick h/2, drift h, law, kick h/2]  linked nodes, h = dt/N (RESPA)
+  ///   remove the links whose omega reached 1
+  ///   F(n+1)  element forces at x(n+1)                (B.4)+(B.5)
+  ///   damage  Omega(n+1), F(n+1) brought to it        (5.2)-(5.3)
+  ///   split   nodes over the criterion, new links     (2.10)-(2.12), (2.6)
+  ///   kick    v += dt/2 (F(n+1) + f0 of new links)/m
+  /// Returns what happened; with bad_element >= 0 the state is not usable.
+  StepReport step(double dt);
 
  private:
-  double K_, mu_;
-  std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
-  std::vector<double> viscous_power_;   // 1 per element
-  std::vector<double> viscous_stress_;  // 6 per element: v T_v of the last step
-  std::vector<double> volume_;          // 1 per element
-  std::vector<double> sigma1_bound_;    // 1 per element
-  std::vector<vtkIdType> node_start_;     // CSR: node -> range in node_entries_
-  std::vector<std::int32_t> node_entries_; // 4 * element + corner (32 bits: less traffic)
+  void kick(const double* force, double tau);
+  void drift_unlinked(double dt);
+  int advance_links(double dt, bool& capped);
+  vtkIdType compute_element_forces(double dt);
+
+  Grid& grid_;
+  const ElementData& elements_;
+  ForceAssembler& forces_;
+  CohesiveLinks& links_;
+  Damage& damage_;
+  Fracture& fracture_;
+  std::vector<vtkIdType> moved_;            // nodes that drifted in this step's sub-steps
+  std::vector<double> start_x_, linked_v_;  // per moved node, 3 each
 };
 
 }  // namespace brittle

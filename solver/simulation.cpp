@@ -12,10 +12,16 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 
-#include "damage.hpp"
 #include "error.hpp"
 
 namespace brittle {
+namespace {
+/// Steps between two checks of the stable step (one pass over the elements, about 1/20 of a
+/// step's cost; docs/model.md).
+constexpr long kTimeStepCheckInterval = 20;
+/// dt may fall to this fraction of the initial step before the run stops.
+constexpr double kSmallestStepFraction = 0.05;
+}  // namespace
 
 Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
     : scene_(scene),
@@ -24,7 +30,11 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       grid_(reference_mesh),
       elements_(make_element_data(grid_, constants_, scene.material)),
       assembler_(grid_, constants_),
-      fracture_(scene, grid_) {
+      links_(CohesiveLaw{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
+             grid_.num_points()),
+      fracture_(scene, grid_, links_),
+      damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
+      integrator_(grid_, elements_, assembler_, links_, damage_, fracture_) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
   lump_masses(grid_, elements_, constants_.rho0);
@@ -49,75 +59,45 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   load->InsertNextValue(sigma_ / scene.material.sigma_c);
   grid_.vtk()->GetFieldData()->AddArray(load);
 
-  dt_ = stable_time_step(grid_, constants_, scene.material, scene.run.cfl);
-  const vtkIdType bad = assembler_.compute(grid_, elements_, force_);
+  const StableStep stable = stable_time_step(grid_, elements_, constants_, scene.run.cfl);
+  BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt), "initial state: element ",
+                stable.element, " gives no stable time step (altitude ", stable.altitude, " m)");
+  dt_ = initial_dt_ = stable.dt;
+  const vtkIdType bad = assembler_.compute(grid_, elements_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
 }
 
 void Simulation::step() {
-  const double h = 0.5 * dt_, dt = dt_;
-  {
-    // Kick (half step) with the element forces of the current state, and drift.
-    const vtkIdType np = grid_.num_points();
-    double *x = grid_.x(), *v = grid_.v();
-    const double *m = grid_.mass(), *f = force_.data();
-    const std::uint8_t *fixed = grid_.fixed(), *linked = fracture_.linked().data();
-#pragma omp parallel for schedule(static)
-    for (vtkIdType i = 0; i < np; ++i) {
-      if (fixed[i]) continue;
-      for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
-      if (linked[i]) continue;  // linked nodes drift with their links below
-      for (int k = 0; k < 3; ++k) x[3 * i + k] += dt * v[3 * i + k];
-    }
-  }
-  fracture_.advance_links(grid_, dt);
-  fracture_.swap_in_mean_velocities(grid_);
-  // Element forces at the new positions; the viscous part sees the half-step velocities.
-  const vtkIdType bad = assembler_.compute(grid_, elements_, force_);
-  fracture_.restore_velocities(grid_);
-  if (bad >= 0) {
+  last_step_ = integrator_.step(dt_);
+  const StepReport& r = last_step_;
+  if (r.bad_element >= 0) {
     throw Error(error_message("blow-up at t = ", time_ + dt_, " s (step ", steps_ + 1,
-                              "): element ", bad, " inverted or NaN; try a smaller run.cfl"));
+                              "): element ", r.bad_element, " inverted or NaN; try a smaller run.cfl"));
   }
-  viscous_dissipated_ += dt * assembler_.viscous_power();
-
-  // Fracture: nodes at sigma_c split; their element forces are re-summed per daughter.
-  std::vector<SplitRecord> splits;
-  if (fracture_.enabled()) {
-    const auto candidates = fracture_.candidates(grid_, assembler_);
-    if (!candidates.empty()) splits = fracture_.split(grid_, elements_, assembler_, candidates);
-    if (!splits.empty()) {
-      assembler_.rebuild(grid_);
-      assembler_.gather(grid_, force_);
-    }
-  }
-  // Damage grows from the stresses just computed; it weakens the elements from the next step.
-  if (scene_.damage.enabled())
-    damage_dissipated_ += update_damage(grid_, elements_, assembler_, constants_,
-                                        scene_.material.sigma_c, scene_.damage, dt, damage_blocks_);
-  {
-    const vtkIdType np = grid_.num_points();
-    double* v = grid_.v();
-    const double *m = grid_.mass(), *f = force_.data();
-    const std::uint8_t* fixed = grid_.fixed();
-#pragma omp parallel for schedule(static)
-    for (vtkIdType i = 0; i < np; ++i) {
-      if (fixed[i]) continue;
-      for (int k = 0; k < 3; ++k) v[3 * i + k] += h * f[3 * i + k] / m[i];
-    }
-    // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
-    // daughters keep K's acceleration (2.5). Without it, the unbalanced element forces of
-    // the daughters would open them by dt/2 (F_B/m_B - F_A/m_A) in velocity, an O(dt)
-    // error in energy at every split; the links' later impulses come from advance_links.
-    for (const SplitRecord& r : splits) {
-      for (int k = 0; k < 3; ++k) {
-        v[3 * r.a + k] += h * r.f0[k] / m[r.a];
-        v[3 * r.b + k] -= h * r.f0[k] / m[r.b];
-      }
-    }
-  }
+  viscous_dissipated_ += r.viscous_dissipated;
+  damage_dissipated_ += r.damage_dissipated;
+  if (r.substeps_capped && substep_cap_steps_++ == 0)
+    step_warnings_.push_back(error_message(
+        "the cohesive links needed more than ", CohesiveLinks::max_substeps,
+        " sub-steps at t = ", time_ + dt_, " s: the stiffest link spring is under-resolved "
+        "(energy budget may drift; try a smaller run.cfl)"));
   time_ += dt_;
   ++steps_;
+  if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
+}
+
+void Simulation::check_time_step() {
+  const StableStep s = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  if (s.dt >= dt_) return;
+  BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_, "stable time step collapsed at t = ",
+                time_, " s (step ", steps_, "): element ", s.element, " has altitude ", s.altitude,
+                " m and damping ratio ", s.xi, ", giving dt = ", s.dt, " s, less than ",
+                kSmallestStepFraction, " of the initial ", initial_dt_, " s");
+  if (dt_reductions_++ == 0)
+    step_warnings_.push_back(error_message(
+        "time step reduced from ", dt_, " to ", s.dt, " s at t = ", time_, " s: element ",
+        s.element, " is distorted (altitude ", s.altitude, " m, damping ratio ", s.xi, ")"));
+  dt_ = s.dt;
 }
 
 Energies Simulation::energies() const {
@@ -132,8 +112,8 @@ Energies Simulation::energies() const {
     e.elastic += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
                                                          constants_.K, constants_.mu, Omega[c]);
   e.viscous_dissipated = viscous_dissipated_;
-  e.cohesive_stored = fracture_.stored_energy();
-  e.cohesive_dissipated = fracture_.dissipated_energy();
+  e.cohesive_stored = links_.stored_energy();
+  e.cohesive_dissipated = links_.dissipated_energy();
   e.damage_dissipated = damage_dissipated_;
   return e;
 }
@@ -186,13 +166,15 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   std::size_t next_frame = 0;
   const double energy_interval = scene_.output.energy_interval;
   double next_energy = 0.0;
+  bool imbalance_warned = false;
   auto due = [this](double t) { return time_ >= t - 0.5 * dt_; };
   auto emit = [&]() {
     if (due(next_energy)) {
       const Energies e = energies();
       const double imbalance = std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic;
       summary.max_relative_imbalance = std::max(summary.max_relative_imbalance, imbalance);
-      if (imbalance > scene_.output.imbalance_warning && summary.warnings.empty()) {
+      if (imbalance > scene_.output.imbalance_warning && !imbalance_warned) {
+        imbalance_warned = true;
         summary.warnings.push_back(error_message(
             "energy budget off by ", 100 * imbalance, " % of the initial energy at t = ", time_,
             " s (threshold ", 100 * scene_.output.imbalance_warning,
@@ -220,6 +202,10 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       const auto t0 = std::chrono::steady_clock::now();
       step();
       wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      for (const std::string& w : take_step_warnings()) {
+        summary.warnings.push_back(w);
+        for (Observer* o : observers) o->on_warning(*this, w);
+      }
       for (Observer* o : observers) o->on_step(*this);
       emit();
     }
@@ -234,7 +220,10 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.final_energies = energies();
   summary.splits = fracture_.splits();
   summary.crack_area = fracture_.crack_area();
-  summary.live_links = static_cast<long>(fracture_.links().size());
+  summary.live_links = static_cast<long>(links_.links().size());
+  summary.final_dt = dt_;
+  summary.dt_reductions = dt_reductions_;
+  summary.substep_cap_steps = substep_cap_steps_;
   if (!tip_samples_.empty()) summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
   summary.speed_stop_x = scene_.geometry.L - scene_.fracture.speed_edge_margin;
   summary.crack_speed =

@@ -3,11 +3,15 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vtkUnstructuredGrid.h>
 
+#include "cohesive.hpp"
 #include "crack_tip.hpp"
+#include "damage.hpp"
+#include "element_forces.hpp"
 #include "fracture.hpp"
 #include "grid.hpp"
 #include "integrator.hpp"
@@ -35,6 +39,9 @@ struct RunSummary {
   std::string status = "running";  ///< "completed" or "failed: <reason>"
   vtkIdType nodes = 0, tets = 0, fixed_nodes = 0;
   double sigma = 0, dt = 0, end_time = 0, time = 0;
+  double final_dt = 0;              ///< the step at the end (smaller if it had to be reduced)
+  long dt_reductions = 0;           ///< times the stable-step check reduced dt
+  long substep_cap_steps = 0;       ///< steps whose links needed more sub-steps than the cap
   long steps = 0;
   int threads = 1;
   double wall_seconds = 0;          ///< time spent stepping (not writing)
@@ -73,8 +80,9 @@ class Simulation {
   /// (B.6)-(B.9) and the fixed lateral boundaries, lumps masses and picks the stable step.
   Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh);
 
-  /// One explicit step (velocity Verlet): kick, drift, forces, kick. Throws brittle::Error
-  /// if an element inverts or a value turns NaN.
+  /// One explicit step (Integrator::step), then every run.dt_check_interval steps the
+  /// stable-step check. Throws brittle::Error if an element inverts or a value turns NaN, or
+  /// if the stable step collapses.
   void step();
 
   /// Steps until run.end_time, calling observers; frame and energy times from the scene.
@@ -91,10 +99,18 @@ class Simulation {
   const ElementData& elements() const { return elements_; }
   Grid& grid() { return grid_; }
   const Grid& grid() const { return grid_; }
-  const std::vector<double>& force() const { return force_; }
+  /// Nodal element forces of the last force computation (3 per point).
+  const std::vector<double>& force() const { return assembler_.nodal_forces(); }
   const ForceAssembler& forces() const { return assembler_; }
+  ForceAssembler& forces() { return assembler_; }
   const Fracture& fracture() const { return fracture_; }
   Fracture& fracture() { return fracture_; }
+  const CohesiveLinks& links() const { return links_; }
+  Damage& damage() { return damage_; }
+  /// What the last step did (sub-steps, splits, dissipation).
+  const StepReport& last_step() const { return last_step_; }
+  /// Warnings raised while stepping (dt reduced, sub-step cap) not yet handed to observers.
+  std::vector<std::string> take_step_warnings() { return std::exchange(step_warnings_, {}); }
   /// Crack tip samples, one per energy interval (tip = notch tip before the first split).
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
 
@@ -108,19 +124,25 @@ class Simulation {
   std::vector<double> frame_times() const;
 
  private:
+  /// Re-checks the stable step at the current shapes; reduces dt or throws (docs/model.md).
+  void check_time_step();
+
   Scene scene_;
   ElasticConstants constants_;
   double sigma_ = 0;
   Grid grid_;
   ElementData elements_;
   ForceAssembler assembler_;
+  CohesiveLinks links_;
   Fracture fracture_;
-  std::vector<double> force_;
+  Damage damage_;
+  Integrator integrator_;
+  StepReport last_step_;
   std::vector<TipSample> tip_samples_;
-  double dt_ = 0, time_ = 0;
-  long steps_ = 0;
+  double dt_ = 0, initial_dt_ = 0, time_ = 0;
+  long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   double viscous_dissipated_ = 0, damage_dissipated_ = 0;
-  std::vector<double> damage_blocks_;
+  std::vector<std::string> step_warnings_;
 };
 
 }  // namespace brittle
