@@ -131,10 +131,10 @@ void CohesiveLinks::kick(Grid& grid, double tau) const {
   }
 }
 
-void CohesiveLinks::advance_law(const Grid& grid, double h) {
+void CohesiveLinks::advance_law(const Grid& grid, double substep) {
   const double* x = grid.x();
   for (CohesiveLink& l : links_)
-    advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), h, law_);
+    advance_link(l, (Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a)).norm(), substep, law_);
 }
 
 void CohesiveLinks::begin_step() {

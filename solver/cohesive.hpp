@@ -70,6 +70,7 @@ class CohesiveLinks {
 
   const CohesiveLaw& law() const { return law_; }
   const std::vector<CohesiveLink>& links() const { return links_; }
+  std::vector<CohesiveLink>& links() { return links_; }  ///< (tests; topology via add/cut)
   bool empty() const { return links_.empty(); }
   /// 1 for nodes that hold a link (they drift in the links' sub-steps, not in the plain drift).
   const std::vector<std::uint8_t>& linked() const { return linked_; }
@@ -95,8 +96,8 @@ class CohesiveLinks {
   /// direction (2.9) while delta is round-off.
   void kick(Grid& grid, double tau) const;
 
-  /// Moves every link's law to the current openings over a sub-step h (advance_link).
-  void advance_law(const Grid& grid, double h);
+  /// Moves every link's law to the current openings over a sub-step (advance_link).
+  void advance_law(const Grid& grid, double substep);
 
   /// Remembers the openings at the start of an element step / sets the opening rates over
   /// it (used by substeps_needed the next step).

@@ -23,12 +23,12 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
     // The smallest altitude is 3V over the largest face area.
     const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(), d.cross(a).norm(),
                                         (b - a).cross(d - a).norm()});
-    const double h = V > 0 ? 3.0 * V / face : 0.0;
+    const double altitude = V > 0 ? 3.0 * V / face : 0.0;
     // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
     const double eta_P = el.eta_dil[e] + (4.0 / 3.0) * el.eta_dev[e];
-    const double xi = h > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * h) : 0.0;
-    const double dt = cfl * h / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
-    if (!(dt >= best.dt)) best = {dt, e, h, xi};  // also takes a NaN, to report it
+    const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
+    const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+    if (!(dt >= best.dt)) best = {dt, e, altitude, xi};  // also takes a NaN, to report it
   }
   return best;
 }
@@ -62,11 +62,11 @@ int Integrator::advance_links(double dt, bool& capped) {
   if (links_.empty()) return 0;
   // The weakening law unloads along f = f0 (1 - omega) delta / delta_max, a spring that no
   // element-sized step resolves while delta_max is small: the links kick inside the step
-  // at h = dt / N (docs/model.md).
+  // at dt / N (docs/model.md).
   const int needed = links_.substeps_needed(grid_, dt);
   capped = needed > CohesiveLinks::max_substeps;
   const int substeps = std::min(needed, CohesiveLinks::max_substeps);
-  const double h = dt / substeps;
+  const double substep = dt / substeps;
   double* x = grid_.x();
   const double* v = grid_.v();
   const std::uint8_t* fixed = grid_.fixed();
@@ -77,12 +77,12 @@ int Integrator::advance_links(double dt, bool& capped) {
     for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * nodes[i] + k];
   links_.begin_step();
   for (int s = 0; s < substeps; ++s) {
-    links_.kick(grid_, 0.5 * h);
+    links_.kick(grid_, 0.5 * substep);
     for (vtkIdType p : nodes)
       if (!fixed[p])
-        for (int k = 0; k < 3; ++k) x[3 * p + k] += h * v[3 * p + k];
-    links_.advance_law(grid_, h);
-    links_.kick(grid_, 0.5 * h);
+        for (int k = 0; k < 3; ++k) x[3 * p + k] += substep * v[3 * p + k];
+    links_.advance_law(grid_, substep);
+    links_.kick(grid_, 0.5 * substep);
   }
   links_.end_step(dt);
   return substeps;

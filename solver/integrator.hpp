@@ -26,10 +26,10 @@ struct StableStep {
   double xi = 0;        ///< xi_e of that element
 };
 
-/// Damping ratio of the P mode of an element of altitude h: xi = eta_P / (rho0 c_p h),
-/// eta_P = eta_dil + 4/3 eta_dev (the viscosity of (B.5) in uniaxial strain), so that
-/// xi = (zeta1 + 4/3 zeta2 c_s / c_p) h_ref / h with h_ref the element's viscous length.
-/// For an element at its reference shape the nominal ratio is zeta_nominal (see .cpp).
+/// xi_e is the damping ratio of the element's highest (P) mode: xi_e = eta_P / (rho c_p h_e),
+/// eta_P = eta_dil + 4/3 eta_dev (the viscosity of (B.5) in uniaxial strain), rho = rho0 / J,
+/// i.e. (zeta1 + 4/3 zeta2 c_s / c_p) (6 sqrt(2) V0)^(1/3) J / h_e: it grows as the element
+/// flattens. c_p is the small-strain P speed (docs/model.md, "Stable step").
 StableStep stable_time_step(const Grid& grid, const ElementData& elements,
                             const ElasticConstants& c, double cfl);
 
@@ -60,7 +60,7 @@ class Integrator {
   /// One step of length dt from t(n) to t(n+1):
   ///   kick    v += dt/2 F(n)/m                        outer forces at t(n), free nodes
   ///   drift   x += dt v                               nodes that hold no link
-  ///   links   N x [kick h/2, drift h, law, kick h/2]  linked nodes, h = dt/N (RESPA)
+  ///   links   N x [kick, drift, law, kick] over dt/N  linked nodes (RESPA)
   ///   remove the links whose omega reached 1
   ///   F(n+1)  element forces at x(n+1)                (B.4)+(B.5)
   ///   damage  Omega(n+1), F(n+1) brought to it        (5.2)-(5.3)

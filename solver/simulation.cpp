@@ -3,14 +3,13 @@
 #include "simulation.hpp"
 
 #include <omp.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <Eigen/Eigenvalues>
-#include <vtkDoubleArray.h>
-#include <vtkFieldData.h>
 
 #include "error.hpp"
 
@@ -19,6 +18,9 @@ namespace {
 /// Steps between two checks of the stable step (one pass over the elements, about 1/20 of a
 /// step's cost; docs/model.md).
 constexpr long kTimeStepCheckInterval = 20;
+/// dt follows the stable step down once that is this fraction below dt (cfl = 0.5 leaves a
+/// factor 2 to the limit: vibrating elements must not shave dt by round-off every check).
+constexpr double kReductionTrigger = 0.1;
 /// dt may fall to this fraction of the initial step before the run stops.
 constexpr double kSmallestStepFraction = 0.05;
 }  // namespace
@@ -70,17 +72,19 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
 void Simulation::step() {
   last_step_ = integrator_.step(dt_);
   const StepReport& r = last_step_;
+  if (r.substeps_capped && substep_cap_steps_++ == 0)
+    step_warnings_.push_back(error_message("the cohesive links needed more than ",
+                                           CohesiveLinks::max_substeps,
+                                           " sub-steps at t = ", time_ + dt_,
+                                           " s: the stiffest link spring is under-resolved "
+                                           "(energy budget may drift; try a smaller run.cfl)"));
   if (r.bad_element >= 0) {
     throw Error(error_message("blow-up at t = ", time_ + dt_, " s (step ", steps_ + 1,
-                              "): element ", r.bad_element, " inverted or NaN; try a smaller run.cfl"));
+                              "): element ", r.bad_element,
+                              " inverted or NaN; try a smaller run.cfl"));
   }
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
-  if (r.substeps_capped && substep_cap_steps_++ == 0)
-    step_warnings_.push_back(error_message(
-        "the cohesive links needed more than ", CohesiveLinks::max_substeps,
-        " sub-steps at t = ", time_ + dt_, " s: the stiffest link spring is under-resolved "
-        "(energy budget may drift; try a smaller run.cfl)"));
   time_ += dt_;
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
@@ -88,11 +92,12 @@ void Simulation::step() {
 
 void Simulation::check_time_step() {
   const StableStep s = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
-  if (s.dt >= dt_) return;
-  BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_, "stable time step collapsed at t = ",
-                time_, " s (step ", steps_, "): element ", s.element, " has altitude ", s.altitude,
-                " m and damping ratio ", s.xi, ", giving dt = ", s.dt, " s, less than ",
-                kSmallestStepFraction, " of the initial ", initial_dt_, " s");
+  if (s.dt >= (1.0 - kReductionTrigger) * dt_) return;
+  BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_,
+                "stable time step collapsed at t = ", time_, " s (step ", steps_, "): element ",
+                s.element, " has altitude ", s.altitude, " m and damping ratio ", s.xi,
+                ", giving dt = ", s.dt, " s, less than ", kSmallestStepFraction, " of the initial ",
+                initial_dt_, " s");
   if (dt_reductions_++ == 0)
     step_warnings_.push_back(error_message(
         "time step reduced from ", dt_, " to ", s.dt, " s at t = ", time_, " s: element ",
@@ -105,8 +110,8 @@ Energies Simulation::energies() const {
   e.time = time_;
   const double *v = grid_.v(), *m = grid_.mass();
   for (vtkIdType i = 0; i < grid_.num_points(); ++i)
-    e.kinetic += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] +
-                               v[3 * i + 2] * v[3 * i + 2]);
+    e.kinetic += 0.5 * m[i] *
+                 (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
   const double* Omega = grid_.damage();
   for (vtkIdType c = 0; c < grid_.num_cells(); ++c)
     e.elastic += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
@@ -171,7 +176,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   auto emit = [&]() {
     if (due(next_energy)) {
       const Energies e = energies();
-      const double imbalance = std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic;
+      const double imbalance =
+          std::abs(e.total() - summary.initial_elastic) / summary.initial_elastic;
       summary.max_relative_imbalance = std::max(summary.max_relative_imbalance, imbalance);
       if (imbalance > scene_.output.imbalance_warning && !imbalance_warned) {
         imbalance_warned = true;
@@ -212,6 +218,10 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     summary.status = "completed";
   } catch (const Error& e) {
     summary.status = std::string("failed: ") + e.what();
+    for (const std::string& w : take_step_warnings()) {  // they may explain the failure
+      summary.warnings.push_back(w);
+      for (Observer* o : observers) o->on_warning(*this, w);
+    }
   }
   summary.time = time_;
   summary.steps = steps_;
@@ -224,7 +234,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.final_dt = dt_;
   summary.dt_reductions = dt_reductions_;
   summary.substep_cap_steps = substep_cap_steps_;
-  if (!tip_samples_.empty()) summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
+  if (!tip_samples_.empty())
+    summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
   summary.speed_stop_x = scene_.geometry.L - scene_.fracture.speed_edge_margin;
   summary.crack_speed =
       steady_speed(tip_samples_, scene_.fracture.speed_window_start, summary.speed_stop_x);

@@ -106,6 +106,7 @@ class Simulation {
   const Fracture& fracture() const { return fracture_; }
   Fracture& fracture() { return fracture_; }
   const CohesiveLinks& links() const { return links_; }
+  CohesiveLinks& links() { return links_; }
   Damage& damage() { return damage_; }
   /// What the last step did (sub-steps, splits, dissipation).
   const StepReport& last_step() const { return last_step_; }
@@ -117,6 +118,11 @@ class Simulation {
   /// Kinetic, elastic and dissipated energies now (deterministic serial sums).
   Energies energies() const;
 
+  /// Re-checks the stable step at the current element shapes (step() does every 20 steps):
+  /// once it is 10 % below dt, dt follows it down (a warning the first time); throws
+  /// brittle::Error naming the element when it falls below 5 % of the initial dt.
+  void check_time_step();
+
   /// Fills the derived output fields (displacement, sigma1/sigma_c, time) of the grid.
   void update_output_fields();
 
@@ -124,9 +130,6 @@ class Simulation {
   std::vector<double> frame_times() const;
 
  private:
-  /// Re-checks the stable step at the current shapes; reduces dt or throws (docs/model.md).
-  void check_time_step();
-
   Scene scene_;
   ElasticConstants constants_;
   double sigma_ = 0;

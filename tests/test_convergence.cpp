@@ -20,7 +20,9 @@ struct Mechanism {
   std::function<void(Scene&)> setup;
 };
 
-void PrintTo(const Mechanism& m, std::ostream* os) { *os << m.name; }
+void PrintTo(const Mechanism& m, std::ostream* os) {
+  *os << m.name;
+}
 
 class Convergence : public ::testing::TestWithParam<Mechanism> {};
 
@@ -34,9 +36,10 @@ TEST_P(Convergence, ImbalanceIsSecondOrderInDt) {
     ASSERT_EQ(r.status, "completed");
     imbalance.push_back(r.max_relative_imbalance);
   }
-  std::cout << "[ " << GetParam().name << " ] max imbalance at cfl 0.5 / 0.25 / 0.125: "
-            << imbalance[0] << " / " << imbalance[1] << " / " << imbalance[2] << " (ratios "
-            << imbalance[0] / imbalance[1] << ", " << imbalance[1] / imbalance[2] << ")\n";
+  std::cout << "[ " << GetParam().name
+            << " ] max imbalance at cfl 0.5 / 0.25 / 0.125: " << imbalance[0] << " / "
+            << imbalance[1] << " / " << imbalance[2] << " (ratios " << imbalance[0] / imbalance[1]
+            << ", " << imbalance[1] / imbalance[2] << ")\n";
   EXPECT_GE(imbalance[0] / imbalance[1], 3.0);
   EXPECT_GE(imbalance[1] / imbalance[2], 3.0);
   EXPECT_LT(imbalance[0], 1e-3);  // and small to begin with

@@ -5,17 +5,14 @@
 #include <iostream>
 
 #include "damage.hpp"
+#include "fixtures.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
 namespace brittle {
 namespace {
 
-DamageParams paper_damage() {
-  DamageParams d;
-  d.beta1 = 5e6;  // (6.5); beta2 = 10, beta3 = 0.95 and Omega_d0 from (6.6) are the defaults
-  return d;
-}
+using testing::paper_damage;
 
 TEST(Damage, LimitFromTheZhouFit) {
   EXPECT_NEAR(paper_damage().limit(), 1 - std::pow(675.0 / 906.0, 2), 1e-15);  // (6.6)
@@ -90,17 +87,11 @@ struct Budget {
 
 /// A 20 us branching run on CM at 0.9 sigma_c with the chosen mechanisms.
 Budget branching_budget(bool rate_dependent, bool damage, bool viscosity) {
-  Scene s;
-  s.loading.sigma_over_sigmac = 0.9;
-  s.fracture.mode = FractureParams::Mode::branching;
-  s.fracture.alpha = rate_dependent ? 9.35e-8 : 0.0;
+  Scene s = testing::plate_scene(0.9, 20e-6, FractureParams::Mode::branching);
+  s.fracture.alpha = rate_dependent ? testing::kPaperAlpha : 0.0;
   if (damage) s.damage = paper_damage();
   if (!viscosity) s.material.zeta1 = s.material.zeta2 = 0;
-  s.run.end_time = 20e-6;
-  s.output.frame_interval = 0;
-  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  Simulation sim(s, *mesh);
-  const RunSummary r = sim.run({});
+  const RunSummary r = testing::run_plate(s).summary;
   const Energies& e = r.final_energies;
   std::cout << "[ budget RD=" << rate_dependent << " damage=" << damage << " viscosity=" << viscosity
             << " ] max imbalance " << r.max_relative_imbalance << ", dissipated: viscous "
@@ -136,16 +127,12 @@ TEST(EnergyBudget, BranchingRunBalancesWithEveryMechanism) {
 // on CM the tip jumps by 0.5 mm and the measured speed (744 m/s) sits at the 10 % margin
 // (742 m/s); see docs/model.md.
 TEST(EnergyBudget, DamageLimitsTheCrackSpeed) {
-  Scene s;
-  s.loading.sigma_over_sigmac = 1.0;
-  s.fracture.mode = FractureParams::Mode::straight;
+  Scene s = testing::plate_scene(1.0, 40e-6, FractureParams::Mode::straight);
   s.damage = paper_damage();
   s.mesh.size = 500e-6;
   s.mesh.band = 1e-3;
   s.mesh.band_size = 250e-6;
   s.mesh.layers = 2;
-  s.run.end_time = 40e-6;
-  s.output.frame_interval = 0;
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
   Simulation sim(s, *mesh);
   const RunSummary r = sim.run({});

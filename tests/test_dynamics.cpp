@@ -6,27 +6,21 @@
 #include <cmath>
 #include <cstring>
 
+#include <vtkCellArray.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+
 #include "error.hpp"
+#include "fixtures.hpp"
+#include "integrator.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
 namespace brittle {
 namespace {
 
-/// Collects every energy row of a run.
-struct EnergyLog : Observer {
-  std::vector<Energies> rows;
-  void on_energy(const Simulation&, const Energies& e) override { rows.push_back(e); }
-};
-
-Scene plate_scene(double sigma_over_sigmac, double end_time) {
-  Scene s;
-  s.loading.sigma_over_sigmac = sigma_over_sigmac;
-  s.run.end_time = end_time;
-  s.output.vtu = false;
-  s.output.frame_interval = 0;
-  return s;
-}
+using testing::EnergyLog;
+using testing::plate_scene;
 
 double max_speed(const Grid& g) {
   double vmax = 0;
@@ -179,6 +173,127 @@ TEST(Dynamics, ZeroThreadsMeansAllCores) {
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
   Simulation sim(s, *mesh);
   EXPECT_EQ(sim.run({}).threads, omp_get_num_procs());
+}
+
+}  // namespace
+}  // namespace brittle
+
+namespace brittle {
+namespace {
+
+/// One regular tetrahedron of edge a, apex at height z_apex (a sqrt(2/3) when regular).
+vtkSmartPointer<vtkUnstructuredGrid> one_tet(double a, double z_apex) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->InsertNextPoint(0, 0, 0);
+  points->InsertNextPoint(a, 0, 0);
+  points->InsertNextPoint(0.5 * a, 0.5 * std::sqrt(3.0) * a, 0);
+  points->InsertNextPoint(0.5 * a, 0.5 * a / std::sqrt(3.0), z_apex);
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(points);
+  const vtkIdType ids[4] = {0, 1, 2, 3};
+  grid->InsertNextCell(VTK_TETRA, 4, ids);
+  return grid;
+}
+
+// The stable step of a regular tet is cfl (h / c_p)(sqrt(1 + xi^2) - xi), h its altitude
+// a sqrt(2/3), xi = (zeta1 + 4/3 zeta2 c_s / c_p) h_e / h with h_e = a; flattened to a
+// quarter of its height (same reference), its altitude and density change and so does dt.
+TEST(StableStep, RegularAndFlattenedTetrahedron) {
+  const double a = 1e-3, cfl = 0.5;
+  const MaterialParams m;
+  const ElasticConstants c = ElasticConstants::from(m);
+  auto mesh = one_tet(a, a * std::sqrt(2.0 / 3.0));
+  Grid grid(*mesh);
+  const ElementData el = make_element_data(grid, c, m);
+  const StableStep regular = stable_time_step(grid, el, c, cfl);
+  const double h = a * std::sqrt(2.0 / 3.0);
+  const double xi = (m.zeta1 + 4.0 / 3.0 * m.zeta2 * c.c_s / c.c_p) * a / h;
+  EXPECT_EQ(regular.element, 0);
+  EXPECT_NEAR(regular.altitude, h, 1e-12 * h);
+  EXPECT_NEAR(regular.xi, xi, 1e-12 * xi);
+  EXPECT_NEAR(regular.dt, cfl * h / c.c_p * (std::sqrt(1 + xi * xi) - xi), 1e-12 * regular.dt);
+  // Flatten: apex at a quarter of its height. J = 1/4: altitude h/4 (the base is the largest
+  // face), density 4 rho0, so xi_flat = xi * (1/4) / (1/4) = xi.
+  grid.x()[3 * 3 + 2] = 0.25 * h;
+  const StableStep flat = stable_time_step(grid, el, c, cfl);
+  EXPECT_NEAR(flat.altitude, 0.25 * h, 1e-12 * h);
+  EXPECT_NEAR(flat.xi, xi, 1e-12 * xi);
+  EXPECT_NEAR(flat.dt, 0.25 * regular.dt, 1e-12 * regular.dt);
+  // Sheared flat at constant volume the altitude drops and the damping ratio grows.
+  grid.x()[3 * 3 + 2] = h;
+  grid.x()[3 * 3 + 0] += 30 * a;  // apex far to the side: long thin sliver, same volume
+  const StableStep sliver = stable_time_step(grid, el, c, cfl);
+  EXPECT_LT(sliver.altitude, 0.1 * h);
+  EXPECT_GT(sliver.xi, 10 * xi);
+  EXPECT_LT(sliver.dt, 0.1 * regular.dt);
+}
+
+/// The plate's element with the smallest stable step, and the corner opposite its largest face.
+struct Critical {
+  vtkIdType element = -1, apex = -1;
+  Vec3 foot;  ///< the apex's projection on the opposite face's plane
+};
+
+Critical critical_element(const Simulation& sim) {
+  const Grid& g = sim.grid();
+  const StableStep s = stable_time_step(g, sim.elements(), sim.constants(), 0.5);
+  Critical c;
+  c.element = s.element;
+  const vtkIdType* n = g.cells() + 4 * s.element;
+  double best = 0;
+  for (int k = 0; k < 4; ++k) {  // apex = the corner at the smallest altitude
+    Vec3 p[3];
+    for (int j = 0, i = 0; j < 4; ++j)
+      if (j != k) p[i++] = Vec3(g.x() + 3 * n[j]);
+    const Vec3 normal = (p[1] - p[0]).cross(p[2] - p[0]);
+    if (normal.norm() <= best) continue;
+    best = normal.norm();
+    const Vec3 apex(g.x() + 3 * n[k]), u = normal.normalized();
+    c.apex = n[k];
+    c.foot = apex - (apex - p[0]).dot(u) * u;
+  }
+  return c;
+}
+
+// As elements distort, the stable step is re-checked: an element pressed to 60 % of its
+// altitude lowers dt (with one warning naming it); pressed to 1 % the run stops with an error
+// naming it instead of stepping on unstably.
+TEST(StableStep, SimulationFollowsDistortedElements) {
+  Scene s = plate_scene(0.5, 1e-6);
+  s.material.zeta1 = s.material.zeta2 = 0;  // dt then scales with the altitude alone
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const double dt0 = sim.dt();
+  sim.check_time_step();
+  EXPECT_EQ(sim.dt(), dt0);
+  EXPECT_TRUE(sim.take_step_warnings().empty());
+
+  const Critical c = critical_element(sim);
+  ASSERT_GE(c.apex, 0);
+  Grid& g = sim.grid();
+  const Vec3 apex(g.x() + 3 * c.apex);
+  auto press = [&](double fraction) {
+    const Vec3 p = c.foot + fraction * (apex - c.foot);
+    for (int k = 0; k < 3; ++k) g.x()[3 * c.apex + k] = p[k];
+  };
+  press(0.6);
+  sim.check_time_step();
+  EXPECT_LT(sim.dt(), 0.65 * dt0);
+  EXPECT_GT(sim.dt(), 0.3 * dt0);
+  const auto warnings = sim.take_step_warnings();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("time step reduced"), std::string::npos) << warnings[0];
+
+  press(0.01);
+  try {
+    sim.check_time_step();
+    FAIL() << "a collapsed stable step must stop the run";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("stable time step collapsed"), std::string::npos) << message;
+    EXPECT_NE(message.find("element "), std::string::npos) << message;
+  }
 }
 
 }  // namespace

@@ -25,12 +25,14 @@ struct Pinned {
   std::vector<std::string> scenes;  ///< files in scenes/, as `brittle run` takes them
   Expected speed;                   ///< steady crack speed [m/s]
   Expected splits;
-  Expected crack_area;              ///< [m^2], both faces
+  Expected crack_area;  ///< [m^2], both faces
   // Energy partition at 30 us, as fractions of the initial energy.
   Expected kinetic, elastic, viscous, cohesive, damage;
 };
 
-void PrintTo(const Pinned& p, std::ostream* os) { *os << p.name; }
+void PrintTo(const Pinned& p, std::ostream* os) {
+  *os << p.name;
+}
 
 class Regression : public ::testing::TestWithParam<Pinned> {};
 
@@ -43,7 +45,8 @@ void expect_within(const char* what, double actual, const Expected& e) {
 TEST_P(Regression, ResultsStayWhereTheyWere) {
   const Pinned& p = GetParam();
   std::vector<std::string> files;
-  for (const std::string& f : p.scenes) files.push_back(std::string(BRITTLE_SOURCE_DIR) + "/scenes/" + f);
+  for (const std::string& f : p.scenes)
+    files.push_back(std::string(BRITTLE_SOURCE_DIR) + "/scenes/" + f);
   const Scene scene = load_scene(files, {"output.vtu=false", "output.frame_interval=0"});
   auto mesh = make_mesh(scene);  // as `brittle run` meshes it (renumbered)
   Simulation sim(scene, *mesh);
@@ -68,18 +71,46 @@ TEST_P(Regression, ResultsStayWhereTheyWere) {
 // 1 split (and its area, 2.6e-7 m^2), 0.001 of E0. Results are bitwise the same for any
 // thread count, so the run-to-run spread on one machine is zero (docs/testing.md).
 const Pinned kPinned[] = {
-    {"cm_straight_ri", {"cm.ini"},
-     {892.6, 4.05}, {102, 1}, {2.525e-5, 2.6e-7},
-     {0.2244, 0.00195}, {0.4119, 0.00105}, {0.3434, 0.00165}, {0.0197, 0.001}, {0, 1e-12}},
-    {"cm_straight_rd", {"cm.ini", "rate-dependent.ini"},
-     {880.7, 6.6}, {100, 3}, {2.475e-5, 7.5e-7},
-     {0.0755, 0.00195}, {0.3112, 0.00255}, {0.1160, 0.00315}, {0.4706, 0.0054}, {0, 1e-12}},
-    {"cm_straight_damage", {"cm.ini", "damage.ini"},
-     {725.8, 4.95}, {82, 1}, {2.025e-5, 2.6e-7},
-     {0.1101, 0.00825}, {0.4340, 0.00555}, {0.3138, 0.00285}, {0.0160, 0.001}, {0.1259, 0.0033}},
-    {"cm_branching_ri", {"cm.ini", "branching.ini"},
-     {1034.6, 100}, {811, 61.5}, {1.4426e-4, 1.35e-5},
-     {0.1746, 0.0213}, {0.3336, 0.0297}, {0.3931, 0.0276}, {0.0987, 0.0122}, {0, 1e-12}},
+    {"cm_straight_ri",
+     {"cm.ini"},
+     {892.6, 4.05},
+     {102, 1},
+     {2.525e-5, 2.6e-7},
+     {0.2244, 0.00195},
+     {0.4119, 0.00105},
+     {0.3434, 0.00165},
+     {0.0197, 0.001},
+     {0, 1e-12}},
+    {"cm_straight_rd",
+     {"cm.ini", "rate-dependent.ini"},
+     {880.7, 6.6},
+     {100, 3},
+     {2.475e-5, 7.5e-7},
+     {0.0755, 0.00195},
+     {0.3112, 0.00255},
+     {0.1160, 0.00315},
+     {0.4706, 0.0054},
+     {0, 1e-12}},
+    {"cm_straight_damage",
+     {"cm.ini", "damage.ini"},
+     {725.8, 4.95},
+     {82, 1},
+     {2.025e-5, 2.6e-7},
+     {0.1101, 0.00825},
+     {0.4340, 0.00555},
+     {0.3138, 0.00285},
+     {0.0160, 0.001},
+     {0.1259, 0.0033}},
+    {"cm_branching_ri",
+     {"cm.ini", "branching.ini"},
+     {1034.6, 100},
+     {811, 61.5},
+     {1.4426e-4, 1.35e-5},
+     {0.1746, 0.0213},
+     {0.3336, 0.0297},
+     {0.3931, 0.0276},
+     {0.0987, 0.0122},
+     {0, 1e-12}},
 };
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Regression, ::testing::ValuesIn(kPinned),
