@@ -113,17 +113,18 @@ vtkIdType Integrator::compute_element_forces(double dt) {
 StepReport Integrator::step(double dt) {
   StepReport r;
   const double half_dt = 0.5 * dt;
-  kick(forces_.nodal_forces().data(), half_dt);
-  drift_unlinked(dt);
-  r.substeps = advance_links(dt, r.substeps_capped);
-  r.links_removed = links_.remove_broken(grid_.num_points());
-  r.bad_element = compute_element_forces(dt);
+  kick(forces_.nodal_forces().data(), half_dt);       // v(n+1/2) with the outer forces F(n)
+  drift_unlinked(dt);                                 // x(n+1) of the nodes without links
+  r.substeps = advance_links(dt, r.substeps_capped);  // linked nodes: inner forces (2.7)-(2.8)
+  r.links_removed = links_.remove_broken(grid_.num_points());  // omega = 1: the link is gone
+  r.bad_element = compute_element_forces(dt);                  // F(n+1): (B.4) + (B.5) at x(n+1)
   if (r.bad_element >= 0) return r;
   r.viscous_dissipated = dt * forces_.viscous_power();
-  if (damage_.enabled()) r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
-  r.splits = fracture_.split_nodes(grid_, elements_, forces_);
+  if (damage_.enabled())  // Omega(n+1) (5.2)-(5.3); F(n+1) brought to it
+    r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
+  r.splits = fracture_.split_nodes(grid_, elements_, forces_);  // (2.10)-(2.12), links (2.6)
 
-  kick(forces_.nodal_forces().data(), half_dt);
+  kick(forces_.nodal_forces().data(), half_dt);  // v(n+1) with F(n+1)
   // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
   // daughters keep K's acceleration (2.5). Without it, the unbalanced element forces of
   // the daughters would open them by dt/2 (F_B/m_B - F_A/m_A) in velocity, an O(dt)
