@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -14,16 +13,14 @@
 
 #include "command_line.hpp"
 #include "error.hpp"
-#include "output.hpp"
-#include "plate_mesh.hpp"
 #include "figures.hpp"
 #include "render_commands.hpp"
+#include "run_scene.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
 #include "sweep.hpp"
 
 namespace po = boost::program_options;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -102,18 +99,8 @@ int run_command(const std::vector<std::string>& args) {
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
-  brittle::add_render_times_to_frames(scene);  // [render] times are frames too
-
-  auto mesh = brittle::make_mesh(scene);
-  brittle::Simulation sim(scene, *mesh);
-  fs::create_directories(scene.output.directory);
-  brittle::OutputWriters writers(sim);
   Progress progress;
-  std::vector<brittle::Observer*> observers = writers.observers();
-  observers.push_back(&progress);
-  const auto renderer = brittle::make_render_observer(scene);  // null without render.times
-  if (renderer) observers.push_back(renderer.get());
-  const brittle::RunSummary summary = sim.run(observers);
+  const brittle::RunSummary summary = brittle::run_scene(scene, {&progress});
   std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";
   return 0;
 }

@@ -20,8 +20,10 @@
 #include "error.hpp"
 #include "frame_renderer.hpp"
 #include "image_tools.hpp"
+#include "lists.hpp"
 #include "output.hpp"
 #include "plate_mesh.hpp"
+#include "run_scene.hpp"
 #include "scene_options.hpp"
 
 namespace brittle {
@@ -45,40 +47,15 @@ std::string render_directory(const Scene& scene) {
                                         : scene.render.directory;
 }
 
-/// Comma/space separated numbers ("1e-6,15e-6 30e-6") from an option value.
+/// Times in s from an option value ("1e-6,15e-6 30e-6"), each >= 0.
 std::vector<double> parse_times(const std::string& text, const std::string& option) {
-  std::vector<double> times;
-  std::istringstream in(text);
-  for (std::string part; std::getline(in, part, ',');) {
-    std::istringstream words(part);
-    for (std::string w; words >> w;) {
-      std::size_t used = 0;
-      double t = 0;
-      try {
-        t = std::stod(w, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      BRITTLE_CHECK(used == w.size() && std::isfinite(t) && t >= 0, option, " '", text,
-                    "': '", w, "' is not a time in s (expected e.g. 1e-6,15e-6,30e-6)");
-      times.push_back(t);
-    }
-  }
-  BRITTLE_CHECK(!times.empty(), option, " '", text, "': no times given");
-  return times;
-}
-
-/// Words of repeated and/or comma-separated --field options.
-std::vector<std::string> split_words(const std::vector<std::string>& values) {
-  std::vector<std::string> words;
-  for (const std::string& v : values) {
-    std::istringstream in(v);
-    for (std::string part; std::getline(in, part, ',');) {
-      std::istringstream ws(part);
-      for (std::string w; ws >> w;) words.push_back(w);
-    }
-  }
-  return words;
+  const NumberList list = parse_number_list(text);
+  BRITTLE_CHECK(!list.bad, option, " '", text, "': '", list.bad.value_or(""),
+                "' is not a time in s (expected e.g. 1e-6,15e-6,30e-6)");
+  for (double t : list.values)
+    BRITTLE_CHECK(t >= 0, option, " '", text, "': ", t, " is not a time in s (expected >= 0)");
+  BRITTLE_CHECK(!list.values.empty(), option, " '", text, "': no times given");
+  return list.values;
 }
 
 /// Scene files + --set overrides for their [render] keys only. The load is irrelevant to the
@@ -215,7 +192,7 @@ int render_command(const std::vector<std::string>& args) {
     for (const PvdEntry& e : series) picks.emplace_back(e.time, &e);
   }
   const std::vector<Field> fields =
-      fields_of(field_options.empty() ? scene.render.fields : split_words(field_options));
+      fields_of(field_options.empty() ? scene.render.fields : list_words(field_options));
   const std::string directory = !out.empty()                      ? out
                                 : !scene.render.directory.empty() ? scene.render.directory
                                 : (fs::path(pvd).parent_path() / "render").string();
@@ -265,11 +242,7 @@ int figure_command(const std::vector<std::string>& args) {
   const Scene base = load_scene(files, sets);
   std::vector<double> times = base.render.times;
   if (times.empty()) times = {1e-6, 15e-6, 30e-6};
-  std::string times_text;
-  for (double t : times) {
-    if (!times_text.empty()) times_text += ',';
-    times_text += error_message(t);
-  }
+  const std::string times_text = join_numbers(times);
 
   const std::vector<std::string> modes = {"straight", "branching"};
   const std::vector<double> loads = {0.6, 0.9};
@@ -299,10 +272,7 @@ int figure_command(const std::vector<std::string>& args) {
         const Scene scene = load_scene(files, overrides);
         std::cerr << "brittle figure: " << mode << " fracture at " << percent(load)
                   << " % of sigma_c -> " << dir << "\n";
-        auto mesh = make_mesh(scene);
-        Simulation sim(scene, *mesh);
-        OutputWriters writers(sim);
-        const RunSummary s = sim.run(writers.observers());
+        const RunSummary s = run_scene(scene);
         std::fprintf(stderr, "brittle figure:   %s, %ld steps in %.1f s, %ld splits, tip x = %.2f mm\n",
                      s.status.c_str(), s.steps, s.wall_seconds, s.splits, s.tip_x * 1e3);
       }

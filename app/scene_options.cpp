@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "error.hpp"
+#include "lists.hpp"
 
 namespace brittle {
 namespace {
@@ -148,42 +149,18 @@ bool non_negative(const double& v) {
   return v >= 0;
 }
 
-/// Comma- and/or whitespace-separated numbers, e.g. "1e-6, 15e-6 30e-6".
-std::optional<std::vector<double>> parse_double_list(const std::string& text) {
-  std::vector<double> out;
-  std::string token;
-  auto flush = [&]() {
-    if (token.empty()) return true;
-    double v = 0;
-    const char* last = token.data() + token.size();
-    auto [end, ec] = std::from_chars(token.data(), last, v);
-    token.clear();
-    if (ec != std::errc() || end != last || !std::isfinite(v)) return false;
-    out.push_back(v);
-    return true;
-  };
-  for (char c : text) {
-    if (c == ',' || std::isspace(static_cast<unsigned char>(c))) {
-      if (!flush()) return std::nullopt;
-    } else {
-      token += c;
-    }
-  }
-  if (!flush()) return std::nullopt;
-  return out;
-}
-
 /// A list of times in s: comma/space separated, each >= 0, strictly ascending; empty = none.
 Key time_list(const std::string& name, const std::string& meaning,
               std::vector<double>& (*target)(Scene&)) {
   Key k = typed<std::string>(
       name, "s", meaning, "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
       [target](const std::string& v, const Source&, Scene& scene) {
-        auto list = parse_double_list(v);
-        if (!list) return Verdict::malformed;
-        for (std::size_t i = 0; i < list->size(); ++i)
-          if ((*list)[i] < 0 || (i > 0 && (*list)[i] <= (*list)[i - 1])) return Verdict::out_of_range;
-        target(scene) = std::move(*list);
+        NumberList list = parse_number_list(v);
+        if (list.bad) return Verdict::malformed;
+        const std::vector<double>& t = list.values;
+        for (std::size_t i = 0; i < t.size(); ++i)
+          if (t[i] < 0 || (i > 0 && t[i] <= t[i - 1])) return Verdict::out_of_range;
+        target(scene) = std::move(list.values);
         return Verdict::ok;
       });
   k.type_word = "a list of numbers";
@@ -299,12 +276,12 @@ const std::vector<Key>& scene_keys() {
         "where nodes may break: x_min, x_max, y_min, y_max of the reference position",
         "four numbers, x_min < x_max, y_min < y_max; empty = anywhere", std::string(), "\"\"",
         [](const std::string& v, const Source&, Scene& scene) {
-          auto list = parse_double_list(v);
-          if (!list) return Verdict::malformed;
-          if (!list->empty() &&
-              (list->size() != 4 || (*list)[0] >= (*list)[1] || (*list)[2] >= (*list)[3]))
+          NumberList list = parse_number_list(v);
+          if (list.bad) return Verdict::malformed;
+          const std::vector<double>& r = list.values;
+          if (!r.empty() && (r.size() != 4 || r[0] >= r[1] || r[2] >= r[3]))
             return Verdict::out_of_range;
-          scene.fracture.region = std::move(*list);
+          scene.fracture.region = std::move(list.values);
           return Verdict::ok;
         }));
     k.back().type_word = "a list of numbers";
@@ -369,15 +346,9 @@ const std::vector<Key>& scene_keys() {
         "render.fields", "", "which fields to render, comma/space separated",
         "sigma1 (sigma1/sigma_c) and/or damage (Omega)", std::string("sigma1, damage"),
         "sigma1, damage", [](const std::string& v, const Source&, Scene& scene) {
-          std::vector<std::string> fields;
-          std::istringstream words(v);
-          for (std::string w; std::getline(words, w, ',');) {
-            std::istringstream parts(w);
-            for (std::string f; parts >> f;) {
-              if (f != "sigma1" && f != "damage") return Verdict::out_of_range;
-              fields.push_back(f);
-            }
-          }
+          std::vector<std::string> fields = list_words(v);
+          for (const std::string& f : fields)
+            if (f != "sigma1" && f != "damage") return Verdict::out_of_range;
           if (fields.empty()) return Verdict::out_of_range;
           scene.render.fields = std::move(fields);
           return Verdict::ok;

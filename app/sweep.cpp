@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -17,12 +18,12 @@
 #include <thread>
 
 #include <boost/program_options.hpp>
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
+#include <nlohmann/json.hpp>
 
 #include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
+#include "lists.hpp"
 
 extern char** environ;
 
@@ -32,20 +33,10 @@ namespace brittle {
 namespace {
 
 double number(const std::string& token, const std::string& text) {
-  double v = 0;
-  const char* end = token.data() + token.size();
-  auto [last, ec] = std::from_chars(token.data(), end, v);
-  BRITTLE_CHECK(ec == std::errc() && last == end && std::isfinite(v), "--loads '", text,
-                "': '", token, "' is not a number (expected first:last:step or a comma list)");
-  return v;
-}
-
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> parts;
-  std::stringstream s(text);
-  std::string part;
-  while (std::getline(s, part, sep)) parts.push_back(part);
-  return parts;
+  const auto v = parse_number(token);
+  BRITTLE_CHECK(v, "--loads '", text, "': '", token,
+                "' is not a number (expected first:last:step or a comma list)");
+  return *v;
 }
 
 std::string load_label(double load) {
@@ -84,8 +75,13 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
 
 std::vector<double> parse_loads(const std::string& text) {
   std::vector<double> loads;
-  const auto range = split(text, ':');
-  if (range.size() == 3) {
+  const bool is_range = text.find(':') != std::string::npos;  // first:last:step
+  std::string fields = text;
+  std::replace(fields.begin(), fields.end(), ':', ',');
+  const std::vector<std::string> range = list_words(fields);
+  if (is_range) {
+    BRITTLE_CHECK(range.size() == 3 && text.find(',') == std::string::npos, "--loads '", text,
+                  "': expected first:last:step or a comma list");
     const double first = number(range[0], text), last = number(range[1], text),
                  step = number(range[2], text);
     BRITTLE_CHECK(step > 0 && last >= first, "--loads '", text,
@@ -93,9 +89,7 @@ std::vector<double> parse_loads(const std::string& text) {
     const long n = std::lround(std::floor((last - first) / step + 1e-9));
     for (long k = 0; k <= n; ++k) loads.push_back(first + k * step);
   } else {
-    BRITTLE_CHECK(range.size() == 1, "--loads '", text, "': expected first:last:step or a comma list");
-    for (const std::string& token : split(text, ','))
-      if (!token.empty()) loads.push_back(number(token, text));
+    for (const std::string& token : range) loads.push_back(number(token, text));
   }
   BRITTLE_CHECK(!loads.empty(), "--loads '", text, "': no load given");
   for (double l : loads)
@@ -112,22 +106,25 @@ SweepPoint read_run(const std::string& directory) {
     p.status = "failed: no summary.json (see run.log)";
     return p;
   }
-  boost::property_tree::ptree json;
+  nlohmann::json json;
   try {
-    boost::property_tree::read_json(summary, json);
+    std::ifstream in(summary);
+    json = nlohmann::json::parse(in);
   } catch (const std::exception& e) {
     throw Error(error_message("sweep: '", summary, "' cannot be read: ", e.what()));
   }
+  // null (not finite when written) and missing keys read as NaN
   auto value = [&](const char* key) {
-    const auto text = json.get<std::string>(key, "null");
-    return text == "null" ? std::nan("") : std::stod(text);
+    const auto it = json.find(key);
+    return it != json.end() && it->is_number() ? it->get<double>() : std::nan("");
   };
-  p.status = json.get<std::string>("status", "unknown");
+  p.status = json.value("status", std::string("unknown"));
   p.load = value("sigma_over_sigmac");
   p.W = value("W");
   p.fitted_speed = value("crack_speed");
   p.r2 = value("crack_speed_r2");
-  p.samples = static_cast<int>(value("crack_speed_samples"));
+  const double samples = value("crack_speed_samples");
+  p.samples = std::isfinite(samples) ? static_cast<int>(samples) : 0;
   p.tip_x = value("tip_x");
   p.zhou_speed = value("zhou_speed");
   // Arrest: the tip stopped short of the far edge. Read the tip series: it did not move
@@ -139,8 +136,8 @@ SweepPoint read_run(const std::string& directory) {
   std::getline(csv, line);
   std::vector<std::pair<double, double>> tip;
   while (std::getline(csv, line)) {
-    const auto cells = split(line, ',');
-    if (cells.size() >= 2) tip.emplace_back(std::stod(cells[0]), std::stod(cells[1]));
+    const NumberList cells = parse_number_list(line);
+    if (!cells.bad && cells.values.size() >= 2) tip.emplace_back(cells.values[0], cells.values[1]);
   }
   if (!tip.empty() && tip.back().second < reach) {
     const double t_end = tip.back().first;

@@ -9,7 +9,7 @@
 // and (3) interpose glewInit, whose GLX half fails without a display although the GL half, all
 // that an OSMesa context needs, succeeded. Where VTK itself was built with OSMesa, none of this is
 // compiled and VTK's own off-screen window is used.
-// Background: /work/shared/notes/offscreen-rendering.md, docs/rendering.md.
+// Background: docs/rendering.md.
 #include "offscreen_window.hpp"
 
 #include <vtkRenderingOpenGLConfigure.h>  // VTK_OPENGL_HAS_OSMESA

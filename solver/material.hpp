@@ -18,7 +18,6 @@ struct ElasticConstants {
   double rho0 = 0, K = 0, mu = 0;  ///< density, bulk and shear moduli (B.3)
   double c_p = 0, c_s = 0;         ///< small-strain P and S wave speeds (3-D)
   static ElasticConstants from(const MaterialParams& m);
-  double bar_speed(double E) const { return std::sqrt(E / rho0); }
 };
 
 /// Rayleigh wave speed for given P and S speeds: root of (2 - k^2)^2 = 4 sqrt(1 - k^2)

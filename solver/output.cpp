@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -165,57 +166,56 @@ void CrackTipCsvWriter::on_finish(const Simulation& sim, const RunSummary&) {
 }
 
 namespace {
-/// JSON has no NaN: write null.
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
+/// JSON has no NaN or infinity: a number that is not finite is written as null.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 }  // namespace
 
-void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
-  std::string status;
-  for (char c : s.status) status += (c == '"' || c == '\\') ? '\'' : c;
+std::string summary_json(const Simulation& sim, const RunSummary& s) {
   const Energies& e = s.final_energies;
-  std::ostringstream j;
-  j << std::setprecision(10) << "{\n"
-    << "  \"status\": \"" << status << "\",\n"
-    << "  \"nodes\": " << s.nodes << ",\n"
-    << "  \"tets\": " << s.tets << ",\n"
-    << "  \"fixed_nodes\": " << s.fixed_nodes << ",\n"
-    << "  \"sigma\": " << s.sigma << ",\n"
-    << "  \"sigma_over_sigmac\": " << s.sigma / sim.scene().material.sigma_c << ",\n"
-    << "  \"dt\": " << s.dt << ",\n"
-    << "  \"end_time\": " << s.end_time << ",\n"
-    << "  \"time\": " << s.time << ",\n"
-    << "  \"steps\": " << s.steps << ",\n"
-    << "  \"threads\": " << s.threads << ",\n"
-    << "  \"wall_seconds\": " << s.wall_seconds << ",\n"
-    << "  \"tet_updates_per_second\": " << s.tet_updates_per_second << ",\n"
-    << "  \"initial_energy\": " << s.initial_elastic << ",\n"
-    << "  \"final_kinetic\": " << e.kinetic << ",\n"
-    << "  \"final_elastic\": " << e.elastic << ",\n"
-    << "  \"viscous_dissipated\": " << e.viscous_dissipated << ",\n"
-    << "  \"cohesive_stored\": " << e.cohesive_stored << ",\n"
-    << "  \"cohesive_dissipated\": " << e.cohesive_dissipated << ",\n"
-    << "  \"damage_dissipated\": " << e.damage_dissipated << ",\n"
-    << "  \"warnings\": " << s.warnings.size() << ",\n"
-    << "  \"max_relative_imbalance\": " << s.max_relative_imbalance << ",\n"
-    << "  \"splits\": " << s.splits << ",\n"
-    << "  \"live_links\": " << s.live_links << ",\n"
-    << "  \"crack_area\": " << s.crack_area << ",\n"
-    << "  \"tip_x\": " << s.tip_x << ",\n"
-    << "  \"tip_y\": " << s.tip_y << ",\n"
-    << "  \"crack_speed\": " << json_number(s.crack_speed.speed) << ",\n"
-    << "  \"crack_speed_samples\": " << s.crack_speed.samples << ",\n"
-    << "  \"crack_speed_window\": [" << s.crack_speed.t_begin << ", " << s.crack_speed.t_end << "],\n"
-    << "  \"crack_speed_r2\": " << json_number(s.crack_speed.r2) << ",\n"
-    << "  \"speed_stop_x\": " << s.speed_stop_x << ",\n"
-    << "  \"W\": " << s.W << ",\n"
-    << "  \"zhou_speed\": " << s.zhou_speed << "\n"
-    << "}\n";
-  write_file_atomically(directory_ + "/summary.json", j.str());
+  nlohmann::ordered_json j;
+  j["status"] = s.status;
+  j["scene_sources"] = sim.scene().sources;
+  j["nodes"] = s.nodes;
+  j["tets"] = s.tets;
+  j["fixed_nodes"] = s.fixed_nodes;
+  j["sigma"] = number(s.sigma);
+  j["sigma_over_sigmac"] = number(s.sigma / sim.scene().material.sigma_c);
+  j["dt"] = number(s.dt);
+  j["final_dt"] = number(s.final_dt);
+  j["dt_reductions"] = s.dt_reductions;
+  j["substep_cap_steps"] = s.substep_cap_steps;
+  j["end_time"] = number(s.end_time);
+  j["time"] = number(s.time);
+  j["steps"] = s.steps;
+  j["threads"] = s.threads;
+  j["wall_seconds"] = number(s.wall_seconds);
+  j["tet_updates_per_second"] = number(s.tet_updates_per_second);
+  j["initial_energy"] = number(s.initial_elastic);
+  j["final_kinetic"] = number(e.kinetic);
+  j["final_elastic"] = number(e.elastic);
+  j["viscous_dissipated"] = number(e.viscous_dissipated);
+  j["cohesive_stored"] = number(e.cohesive_stored);
+  j["cohesive_dissipated"] = number(e.cohesive_dissipated);
+  j["damage_dissipated"] = number(e.damage_dissipated);
+  j["warnings"] = s.warnings;
+  j["max_relative_imbalance"] = number(s.max_relative_imbalance);
+  j["splits"] = s.splits;
+  j["live_links"] = s.live_links;
+  j["crack_area"] = number(s.crack_area);
+  j["tip_x"] = number(s.tip_x);
+  j["tip_y"] = number(s.tip_y);
+  j["crack_speed"] = number(s.crack_speed.speed);
+  j["crack_speed_samples"] = s.crack_speed.samples;
+  j["crack_speed_window"] = {number(s.crack_speed.t_begin), number(s.crack_speed.t_end)};
+  j["crack_speed_r2"] = number(s.crack_speed.r2);
+  j["speed_stop_x"] = number(s.speed_stop_x);
+  j["W"] = number(s.W);
+  j["zhou_speed"] = number(s.zhou_speed);
+  return j.dump(2) + "\n";
+}
+
+void SummaryWriter::on_finish(const Simulation& sim, const RunSummary& s) {
+  write_file_atomically(directory_ + "/summary.json", summary_json(sim, s));
 }
 
 OutputWriters::OutputWriters(const Simulation& sim) {

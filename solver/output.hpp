@@ -62,6 +62,10 @@ class EnergyCsvWriter : public Observer {
   double initial_ = -1;
 };
 
+/// summary.json's text: every RunSummary field, the scene sources and the warnings;
+/// numbers that are not finite are null (nlohmann::json, so the file is always valid JSON).
+std::string summary_json(const Simulation& sim, const RunSummary& s);
+
 /// <dir>/summary.json at the end of the run (also when it failed, with its status).
 class SummaryWriter : public Observer {
  public:

@@ -1,10 +1,13 @@
 // VTU frames + PVD collection, energies.csv and summary.json written by a run, read back.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -114,6 +117,38 @@ TEST(Output, ReadPvdRejectsGarbage) {
   std::ofstream(file) << "not xml at all";
   EXPECT_THROW(read_pvd(file.string()), Error);
   EXPECT_THROW(read_pvd("/nonexistent/run.pvd"), Error);
+}
+
+// A run that blew up has NaN and infinite numbers; its summary is still valid JSON, with null
+// for them, and quotes and backslashes in the status and warnings survive.
+TEST(Output, SummaryWithNonFiniteNumbersIsValidJson) {
+  Scene s;
+  s.loading.sigma_over_sigmac = 0.5;
+  s.geometry.H = 2e-3;
+  s.sources = {"a.ini", "--set run.cfl=0.4"};
+  auto mesh = generate_box_mesh(4e-3, 2e-3, 1e-3, 1e-3);
+  Simulation sim(s, *mesh);
+  RunSummary r;
+  r.status = "failed: element \"7\" at C:\\path";
+  r.crack_speed.speed = std::nan("");
+  r.crack_speed.r2 = std::numeric_limits<double>::infinity();
+  r.final_energies.elastic = -std::nan("");
+  r.max_relative_imbalance = -std::numeric_limits<double>::infinity();
+  r.warnings = {"energy budget off by \"12\" % \\ here"};
+  r.splits = 3;
+  const std::string text = summary_json(sim, r);
+  nlohmann::json j;
+  ASSERT_NO_THROW(j = nlohmann::json::parse(text)) << text;
+  EXPECT_TRUE(j.at("crack_speed").is_null());
+  EXPECT_TRUE(j.at("crack_speed_r2").is_null());
+  EXPECT_TRUE(j.at("final_elastic").is_null());
+  EXPECT_TRUE(j.at("max_relative_imbalance").is_null());
+  EXPECT_EQ(j.at("status"), r.status);
+  EXPECT_EQ(j.at("warnings"), nlohmann::json(r.warnings));
+  EXPECT_EQ(j.at("scene_sources"), nlohmann::json(s.sources));
+  EXPECT_EQ(j.at("splits"), 3);
+  EXPECT_EQ(text.find("nan"), std::string::npos);
+  EXPECT_EQ(text.find("inf"), std::string::npos);
 }
 
 }  // namespace

@@ -2,14 +2,14 @@
 // that a sweep's run equals a single run of the same load.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
+#include <nlohmann/json.hpp>
 
 #include "error.hpp"
 #include "sweep.hpp"
@@ -65,13 +65,47 @@ TEST(Sweep, ParallelRunsMatchSingleRuns) {
   EXPECT_EQ(p.status, "completed");
   EXPECT_GT(p.speed, 100.0);
   EXPECT_FALSE(p.arrested);
-  boost::property_tree::ptree a, b;
-  boost::property_tree::read_json((dir / "sweep" / "load_0.900" / "summary.json").string(), a);
-  boost::property_tree::read_json((dir / "single" / "summary.json").string(), b);
+  std::ifstream a_file(dir / "sweep" / "load_0.900" / "summary.json"),
+      b_file(dir / "single" / "summary.json");
+  const auto a = nlohmann::json::parse(a_file), b = nlohmann::json::parse(b_file);
   for (const char* key : {"crack_speed", "splits", "final_kinetic", "final_elastic",
                           "cohesive_dissipated", "viscous_dissipated", "tip_x"})
-    EXPECT_EQ(a.get<std::string>(key), b.get<std::string>(key)) << key;
-  EXPECT_EQ(a.get<std::string>("threads"), "1");
+    EXPECT_EQ(a.at(key), b.at(key)) << key;
+  EXPECT_EQ(a.at("threads"), 1);
+}
+
+// A run that blew up writes nulls for its non-finite numbers: read back they are NaN (no
+// exception), so the sweep still writes sweep.csv with that row marked.
+TEST(Sweep, NullsInASummaryReadAsNaN) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_sweep_nulls";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "summary.json")
+      << R"({"status": "failed: blow-up", "sigma_over_sigmac": 0.9, "W": 11796.0,)"
+      << R"( "crack_speed": null, "crack_speed_r2": null, "crack_speed_samples": 0,)"
+      << R"( "tip_x": null, "zhou_speed": 618.0, "speed_stop_x": 0.03})";
+  SweepPoint p;
+  ASSERT_NO_THROW(p = read_run(dir.string()));
+  EXPECT_EQ(p.status, "failed: blow-up");
+  EXPECT_DOUBLE_EQ(p.load, 0.9);
+  EXPECT_TRUE(std::isnan(p.fitted_speed));
+  EXPECT_TRUE(std::isnan(p.r2));
+  EXPECT_TRUE(std::isnan(p.tip_x));
+  EXPECT_EQ(p.samples, 0);
+  write_sweep_csv((dir / "sweep.csv").string(), {p});
+  std::ifstream csv(dir / "sweep.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(row.find("failed: blow-up"), std::string::npos) << row;
+  // A summary that is not JSON at all is an error naming the file.
+  std::ofstream(dir / "summary.json") << "{\"status\": ";
+  try {
+    read_run(dir.string());
+    FAIL() << "garbage must not read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
