@@ -36,7 +36,8 @@ double rayleigh_speed(double c_p, double c_s) {
 
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega) {
   const double J = F.determinant();
-  const double alpha1 = std::pow(J, -2.0 / 3.0) * (F * F.transpose()).trace();
+  const double y = inverse_cbrt(J);  // J^(-1/3) without pow()
+  const double alpha1 = y * y * (F * F.transpose()).trace();
   return (1.0 - Omega) * (K * ((J - 1.0) - std::log(J)) + 0.5 * mu * (alpha1 - 3.0));
 }
 
