@@ -80,7 +80,7 @@ class Simulation {
   /// (B.6)-(B.9) and the fixed lateral boundaries, lumps masses and picks the stable step.
   Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh);
 
-  /// One explicit step (Integrator::step), then every run.dt_check_interval steps the
+  /// One explicit step (Integrator::step), its dissipation booked, then every 20 steps the
   /// stable-step check. Throws brittle::Error if an element inverts or a value turns NaN, or
   /// if the stable step collapses.
   void step();
