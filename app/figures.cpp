@@ -16,6 +16,7 @@
 #include "crack_tip.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
+#include "paths.hpp"
 #include "render_commands.hpp"
 #include "scene.hpp"
 
@@ -138,13 +139,25 @@ int chart_command(const std::vector<std::string>& args) {
   return 0;
 }
 
+namespace {
+/// The last non-empty line of a text file ("" if none): a failed run's one-line error.
+std::string last_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+}  // namespace
+
 int reproduce_command(const std::vector<std::string>& args) {
-  std::string out = "out/figures", scenes = "scenes", loads = "0.4:1.0:0.05", meshes = "cm,rm";
+  std::string out = "out/figures", scenes, loads = "0.4:1.0:0.05", meshes = "cm,rm";
   int jobs = 0;
   bool no_frames = false;
   po::options_description opts("brittle reproduce options");
   opts.add_options()("help,h", "show this help")("out", po::value(&out), "output directory")(
-      "scenes", po::value(&scenes), "directory of the shipped scenes")(
+      "scenes", po::value(&scenes),
+      "directory of the shipped scenes (default: the installed or source tree's scenes/)")(
       "loads", po::value(&loads), "loads of every sweep (first:last:step or a list)")(
       "meshes", po::value(&meshes), "meshes to sweep: cm, rm or cm,rm")(
       "jobs", po::value(&jobs), "runs at once (0 = number of cores)")(
@@ -158,6 +171,12 @@ int reproduce_command(const std::vector<std::string>& args) {
     return 0;
   }
   po::notify(vm);
+  if (scenes.empty()) scenes = bundled_scenes_directory();
+  for (const char* file : {"cm.ini", "rm.ini", "rate-dependent.ini", "rate-dependent-calibrated.ini",
+                           "damage.ini"})
+    BRITTLE_CHECK(fs::is_regular_file(fs::path(scenes) / file), "brittle reproduce: scene '",
+                  (fs::path(scenes) / file).string(), "' does not exist (expected the shipped "
+                  "scenes in --scenes DIR)");
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(out);
   // The sweeps: {label, mesh, overlays}; Fig. 5 (= Fig. 6a) without damage, Fig. 6b with it,
@@ -196,7 +215,15 @@ int reproduce_command(const std::vector<std::string>& args) {
     o.out = out + "/sweeps/" + dir;
     std::fprintf(stderr, "brittle reproduce: sweep %s%s (%zu loads)\n", spec.label.c_str(),
                  spec.damage ? " with damage" : "", o.loads.size());
-    (spec.damage ? with : without).push_back({spec.label, run_sweep(o)});
+    std::vector<SweepPoint> points = run_sweep(o);
+    // A failed run stops the command at once: a figure with holes, or "nan %" fit errors,
+    // would hide it.
+    for (std::size_t i = 0; i < points.size(); ++i)
+      BRITTLE_CHECK(points[i].status == "completed", "brittle reproduce: sweep ", spec.label,
+                    spec.damage ? " with damage" : "", ": the run at sigma/sigma_c = ", o.loads[i],
+                    " (", points[i].directory, ") ", points[i].status, ": ",
+                    last_line(points[i].directory + "/run.log"));
+    (spec.damage ? with : without).push_back({spec.label, std::move(points)});
   }
   write_speed_chart(out + "/fig05.png", "Fig. 5: RI and RD nodal cohesive forces, no damage",
                     without);

@@ -15,6 +15,7 @@
 #include "error.hpp"
 #include "figures.hpp"
 #include "render_commands.hpp"
+#include "paths.hpp"
 #include "run_scene.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
@@ -119,6 +120,11 @@ int main(int argc, char** argv) {
     }
     if (args[0] == "--version" || args[0] == "version") {
       std::cout << "brittle " << BRITTLE_VERSION << "\n";
+      try {
+        std::cout << "shipped scenes: " << brittle::bundled_scenes_directory() << "\n";
+      } catch (const brittle::Error&) {
+        std::cout << "shipped scenes: not found\n";
+      }
       return 0;
     }
     if (args[0] == "--help" || args[0] == "-h") {

@@ -24,6 +24,7 @@
 #include "error.hpp"
 #include "figures.hpp"
 #include "lists.hpp"
+#include "paths.hpp"
 
 extern char** environ;
 
@@ -43,14 +44,6 @@ std::string load_label(double load) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3) << load;
   return s.str();
-}
-
-/// This executable, to run the sweep's members with the same code.
-std::string self_executable() {
-  std::error_code ec;
-  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  BRITTLE_CHECK(!ec, "sweep: cannot find the brittle executable (/proc/self/exe)");
-  return p.string();
 }
 
 /// Starts `exe args...` with stdout and stderr into `log`; returns its pid.
