@@ -17,8 +17,8 @@ std::string self_executable() {
 }
 
 std::string bundled_scenes_directory() {
-  const fs::path installed = fs::path(self_executable()).parent_path().parent_path() / "share" /
-                             "brittle" / "scenes";
+  const fs::path installed =
+      fs::path(self_executable()).parent_path().parent_path() / "share" / "brittle" / "scenes";
   const fs::path source = fs::path(BRITTLE_SOURCE_SCENES);
   for (const fs::path& dir : {installed, source})
     if (fs::is_regular_file(dir / "cm.ini")) return dir.string();

@@ -45,7 +45,10 @@ Result run_in(const fs::path& cwd, const std::string& command) {
   const fs::path out = cwd / "stdout.txt", err = cwd / "stderr.txt";
   std::string line = "cd ";
   line.append(shell_quoted(cwd.string())).append(" && ").append(command);
-  line.append(" >").append(shell_quoted(out.string())).append(" 2>").append(shell_quoted(err.string()));
+  line.append(" >")
+      .append(shell_quoted(out.string()))
+      .append(" 2>")
+      .append(shell_quoted(err.string()));
   line.append(" </dev/null");
   const int status = std::system(line.c_str());
   Result r;
@@ -62,7 +65,8 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-const std::string kQuickReproduce = " reproduce --meshes cm --loads 0.9 --no-frames --jobs 2 --out out";
+const std::string kQuickReproduce =
+    " reproduce --meshes cm --loads 0.9 --no-frames --jobs 2 --out out";
 
 // Outside the repository (a temporary directory as the working directory) reproduce finds the
 // source tree's scenes and completes; its fit errors are numbers.
@@ -82,15 +86,13 @@ TEST(Reproduce, StopsAtTheFirstFailedSweepWithTheReason) {
   const fs::path dir = fresh_dir("failing");
   fs::copy(fs::path(BRITTLE_SOURCE_DIR) / "scenes", dir / "scenes");
   std::ofstream(dir / "scenes" / "cm.ini", std::ios::app) << "\n[run]\nbogus_key = 1\n";
-  const Result r =
-      run_in(dir, command(BRITTLE_EXE, kQuickReproduce + " --scenes scenes"));
+  const Result r = run_in(dir, command(BRITTLE_EXE, kQuickReproduce + " --scenes scenes"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("sweep RI-CM"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bogus_key"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "fig05.png"));
   // A scenes directory without the shipped scenes is refused before anything runs.
-  const Result missing =
-      run_in(dir, command(BRITTLE_EXE, kQuickReproduce + " --scenes nowhere"));
+  const Result missing = run_in(dir, command(BRITTLE_EXE, kQuickReproduce + " --scenes nowhere"));
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("nowhere/cm.ini"), std::string::npos) << missing.err;
 }
@@ -100,7 +102,9 @@ TEST(Reproduce, StopsAtTheFirstFailedSweepWithTheReason) {
 TEST(Install, InstalledBrittleUsesTheInstalledScenes) {
   const fs::path dir = fresh_dir("prefix"), prefix = dir / "prefix";
   std::string args = " --install ";
-  args.append(shell_quoted(BRITTLE_BINARY_DIR)).append(" --prefix ").append(shell_quoted(prefix.string()));
+  args.append(shell_quoted(BRITTLE_BINARY_DIR))
+      .append(" --prefix ")
+      .append(shell_quoted(prefix.string()));
   const Result install = run_in(dir, command(CMAKE_COMMAND, args));
   ASSERT_EQ(install.exit_code, 0) << install.err << install.out;
   const fs::path scenes = prefix / "share" / "brittle" / "scenes";
