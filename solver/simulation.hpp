@@ -115,7 +115,7 @@ class Simulation {
   /// Crack tip samples, one per energy interval (tip = notch tip before the first split).
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
 
-  /// Kinetic, elastic and dissipated energies now (deterministic serial sums).
+  /// Kinetic, elastic and dissipated energies now (sums over fixed blocks: deterministic).
   Energies energies() const;
 
   /// Re-checks the stable step at the current element shapes (step() does every 20 steps):

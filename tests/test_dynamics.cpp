@@ -1,14 +1,13 @@
 // Pre-stressed elastodynamics: equilibrium, wave speed, energy balance, determinism (SPEC 2-4).
 #include <gtest/gtest.h>
 #include <omp.h>
+#include <vtkCellArray.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-
-#include <vtkCellArray.h>
-#include <vtkNew.h>
-#include <vtkPoints.h>
 
 #include "error.hpp"
 #include "fixtures.hpp"
@@ -25,8 +24,9 @@ using testing::plate_scene;
 double max_speed(const Grid& g) {
   double vmax = 0;
   for (vtkIdType i = 0; i < g.num_points(); ++i)
-    vmax = std::max(vmax, std::sqrt(g.v()[3 * i] * g.v()[3 * i] + g.v()[3 * i + 1] * g.v()[3 * i + 1] +
-                                    g.v()[3 * i + 2] * g.v()[3 * i + 2]));
+    vmax =
+        std::max(vmax, std::sqrt(g.v()[3 * i] * g.v()[3 * i] + g.v()[3 * i + 1] * g.v()[3 * i + 1] +
+                                 g.v()[3 * i + 2] * g.v()[3 * i + 2]));
   return vmax;
 }
 
@@ -133,11 +133,15 @@ TEST(Dynamics, EnergyBalanceNotchedPlate) {
 TEST(Dynamics, ResultsIndependentOfThreadCount) {
   Scene s = plate_scene(0.9, 2e-6);
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  std::vector<std::vector<double>> x, v, stress;
+  std::vector<std::vector<double>> x, v, stress, energy;
   for (int threads : {1, 2}) {
     s.run.threads = threads;
     Simulation sim(s, *mesh);
-    sim.run({});
+    EnergyLog log;
+    sim.run({&log});
+    energy.emplace_back();
+    for (const Energies& e : log.rows)
+      energy.back().insert(energy.back().end(), {e.kinetic, e.elastic, e.viscous_dissipated});
     const Grid& g = sim.grid();
     x.emplace_back(g.x(), g.x() + 3 * g.num_points());
     v.emplace_back(g.v(), g.v() + 3 * g.num_points());
@@ -147,6 +151,8 @@ TEST(Dynamics, ResultsIndependentOfThreadCount) {
   EXPECT_EQ(std::memcmp(x[0].data(), x[1].data(), x[0].size() * sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(v[0].data(), v[1].data(), v[0].size() * sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(stress[0].data(), stress[1].data(), stress[0].size() * sizeof(double)), 0);
+  EXPECT_GT(energy[0].size(), 30u);
+  EXPECT_EQ(energy[0], energy[1]);  // the energy rows too, bit for bit
 }
 
 // A NaN in the state stops the run with a clear error instead of writing garbage.
