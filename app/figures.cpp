@@ -16,6 +16,7 @@
 #include "crack_tip.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
+#include "lists.hpp"
 #include "paths.hpp"
 #include "render_commands.hpp"
 #include "scene.hpp"
@@ -171,6 +172,17 @@ int reproduce_command(const std::vector<std::string>& args) {
     return 0;
   }
   po::notify(vm);
+  // Options first: bad input stops the command before anything is read or written.
+  const std::vector<std::string> chosen = list_words(meshes);
+  BRITTLE_CHECK(!chosen.empty(), "--meshes '", meshes,
+                "': no mesh given (expected cm, rm or cm,rm)");
+  for (const std::string& mesh : chosen)
+    BRITTLE_CHECK(mesh == "cm" || mesh == "rm", "--meshes '", meshes, "': '", mesh,
+                  "' is not a mesh (expected cm, rm or cm,rm)");
+  const auto wanted = [&](const std::string& mesh) {
+    return std::find(chosen.begin(), chosen.end(), mesh) != chosen.end();
+  };
+  const std::vector<double> load_list = parse_loads(loads);
   if (scenes.empty()) scenes = bundled_scenes_directory();
   for (const char* file : {"cm.ini", "rm.ini", "rate-dependent.ini", "rate-dependent-calibrated.ini",
                            "damage.ini"})
@@ -187,28 +199,24 @@ int reproduce_command(const std::vector<std::string>& args) {
     bool damage;
   };
   std::vector<Spec> specs;
-  std::stringstream m(meshes);
-  for (std::string mesh; std::getline(m, mesh, ',');)
-    BRITTLE_CHECK(mesh == "cm" || mesh == "rm", "--meshes '", meshes, "': '", mesh,
-                  "' is not a mesh (expected cm, rm)");
   for (bool damage : {false, true})
     for (const char* law : {"RI", "RD"})
       for (const char* mesh : {"cm", "rm"}) {
-        if (meshes.find(mesh) == std::string::npos) continue;
+        if (!wanted(mesh)) continue;
         std::vector<std::string> overlays;
         if (std::string(law) == "RD") overlays.push_back("rate-dependent.ini");
         if (damage) overlays.push_back("damage.ini");
         specs.push_back({std::string(law) + "-" + (std::string(mesh) == "cm" ? "CM" : "RM"), mesh,
                          overlays, damage});
       }
-  if (meshes.find("rm") != std::string::npos)
+  if (wanted("rm"))
     specs.push_back({"RD-RM calibrated", "rm", {"rate-dependent-calibrated.ini", "damage.ini"}, true});
   std::vector<SweepSeries> without, with;
   for (const Spec& spec : specs) {
     SweepOptions o;
     o.scenes = {scenes + "/" + spec.mesh + ".ini"};
     for (const std::string& overlay : spec.overlays) o.scenes.push_back(scenes + "/" + overlay);
-    o.loads = parse_loads(loads);
+    o.loads = load_list;
     o.jobs = jobs;
     std::string dir = spec.label + (spec.damage ? "-damage" : "");
     std::replace(dir.begin(), dir.end(), ' ', '-');

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -95,6 +97,23 @@ TEST(Reproduce, StopsAtTheFirstFailedSweepWithTheReason) {
   const Result missing = run_in(dir, command(BRITTLE_EXE, kQuickReproduce + " --scenes nowhere"));
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("nowhere/cm.ini"), std::string::npos) << missing.err;
+}
+
+// Bad --meshes or --loads stop reproduce with one line naming the option, before it writes
+// anything.
+TEST(Reproduce, RejectsBadOptionsBeforeRunning) {
+  const fs::path dir = fresh_dir("bad_options");
+  for (const auto& [args, parts] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {" --meshes cm,xx", {"--meshes 'cm,xx'", "'xx' is not a mesh", "expected cm, rm"}},
+           {" --meshes ,", {"--meshes ','", "no mesh given"}},
+           {" --meshes cm --loads 0.4:x:0.1", {"--loads '0.4:x:0.1'", "'x' is not a number"}}}) {
+    const Result r = run_in(dir, command(BRITTLE_EXE, " reproduce --out out" + args));
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
+    for (const std::string& part : parts)
+      EXPECT_NE(r.err.find(part), std::string::npos) << part << " not in " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 // cmake --install puts bin/brittle and share/brittle/scenes under the prefix; the installed
