@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -188,7 +187,10 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
     running.erase(pid);
   }
   std::vector<SweepPoint> points;
-  for (const std::string& dir : dirs) points.push_back(read_run(dir));
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    points.push_back(read_run(dirs[i]));
+    if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
+  }
   write_sweep_csv(o.out + "/sweep.csv", points);
   return points;
 }

@@ -2,6 +2,7 @@
 // collected into sweep.csv (load, W, steady speed, fit quality, arrest).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,19 +17,21 @@ struct SweepOptions {
   bool frames = false;              ///< keep the VTU frames of every run
 };
 
-/// One run of the sweep, read back from its summary.json and crack_tip.csv.
+/// One run of the sweep, read back from its summary.json and crack_tip.csv. A number the run
+/// did not write (it failed first, or it was not finite: null in the summary) is NaN.
 struct SweepPoint {
-  double load = 0;          ///< sigma / sigma_c
-  double W = 0;             ///< H sigma^2 / (2E) [N/m]
-  double speed = 0;         ///< steady speed [m/s]; 0 when the crack arrested
-  double fitted_speed = 0;  ///< least-squares slope over the window, whatever happened
-  double r2 = 0;            ///< quality of that fit
-  int samples = 0;
-  bool arrested = false;    ///< the tip stopped short of the far edge
-  double tip_x = 0;         ///< final tip [m]
-  double zhou_speed = 0;    ///< the Zhou et al. fit (1.1) at W [m/s]
-  std::string status;       ///< the run's status ("completed" or "failed: ...")
-  std::string directory;    ///< the run's output directory
+  static constexpr double unknown = std::numeric_limits<double>::quiet_NaN();
+  double load = unknown;          ///< sigma / sigma_c
+  double W = unknown;             ///< H sigma^2 / (2E) [N/m]
+  double speed = unknown;         ///< steady speed [m/s]; 0 when the crack arrested
+  double fitted_speed = unknown;  ///< least-squares slope over the window, whatever happened
+  double r2 = unknown;            ///< quality of that fit
+  int samples = 0;                ///< tip samples in that fit
+  bool arrested = false;          ///< the tip stopped short of the far edge
+  double tip_x = unknown;         ///< final tip [m]
+  double zhou_speed = unknown;    ///< the Zhou et al. fit (1.1) at W [m/s]
+  std::string status;             ///< the run's status ("completed" or "failed: ...")
+  std::string directory;          ///< the run's output directory
 };
 
 /// "0.4:1.0:0.05" (first:last:step, last included) or "0.6,0.9" -> loads; throws
@@ -37,7 +40,8 @@ std::vector<double> parse_loads(const std::string& text);
 
 /// Runs `brittle run` (this executable) once per load with run.threads = 1, at most `jobs`
 /// at a time, each into <out>/load_<load>/ with its log in run.log; then reads the results
-/// back and writes <out>/sweep.csv. A failed run is reported in its row, not thrown.
+/// back and writes <out>/sweep.csv. A failed run is reported in its row (with its requested
+/// load, and NaN for what it did not write), not thrown.
 std::vector<SweepPoint> run_sweep(const SweepOptions& options);
 
 /// Reads the results of one finished run directory (summary.json, crack_tip.csv).

@@ -1,17 +1,22 @@
 // Load sweeps (issue: Figs. 5-6): parsing, the parallel runner through the executable, and
 // that a sweep's run equals a single run of the same load.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "error.hpp"
+#include "output.hpp"
+#include "plate_mesh.hpp"
+#include "simulation.hpp"
 #include "sweep.hpp"
 
 namespace fs = std::filesystem;
@@ -106,6 +111,74 @@ TEST(Sweep, NullsInASummaryReadAsNaN) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
   }
+}
+
+// What SummaryWriter writes is what read_run reads (the same keys on both sides): a run that
+// failed with NaN and infinite numbers reads back as NaN, its finite numbers as written.
+TEST(Sweep, ReadRunReadsWhatTheSummaryWriterWrites) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_sweep_round_trip";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Scene s;
+  s.loading.sigma_over_sigmac = 0.5;
+  s.geometry.H = 2e-3;
+  auto mesh = generate_box_mesh(4e-3, 2e-3, 1e-3, 1e-3);
+  Simulation sim(s, *mesh);
+  RunSummary r;
+  r.status = "failed: blow-up at t = 3e-06 s";
+  r.sigma = 0.7 * s.material.sigma_c;
+  r.W = 1234.5;
+  r.zhou_speed = 456.25;
+  r.tip_x = 2.5e-3;
+  r.speed_stop_x = 3e-3;
+  r.crack_speed.speed = std::nan("");
+  r.crack_speed.r2 = std::numeric_limits<double>::infinity();
+  r.crack_speed.samples = 7;
+  write_file_atomically((dir / "summary.json").string(), summary_json(sim, r));
+  SweepPoint p;
+  ASSERT_NO_THROW(p = read_run(dir.string()));
+  EXPECT_EQ(p.status, r.status);
+  EXPECT_DOUBLE_EQ(p.load, 0.7);
+  EXPECT_EQ(p.W, r.W);
+  EXPECT_EQ(p.zhou_speed, r.zhou_speed);
+  EXPECT_EQ(p.tip_x, r.tip_x);
+  EXPECT_EQ(p.samples, 7);
+  EXPECT_TRUE(std::isnan(p.fitted_speed));
+  EXPECT_TRUE(std::isnan(p.speed));
+  EXPECT_TRUE(std::isnan(p.r2));
+}
+
+// A sweep in which one run fails still writes sweep.csv with a row for every load: the failed
+// run keeps its load and its status, what it never wrote is nan; the command exits 2.
+TEST(Sweep, AFailedRunKeepsItsRowInSweepCsv) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_sweep_one_failed";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // sigma_c so large that 0.9 sigma_c exceeds 3K = E/(1-2nu) = 1.03e10 Pa: that run is refused
+  // (exit 2, no summary.json); 0.05 sigma_c = 1e9 Pa runs.
+  const fs::path scene = dir / "tiny.ini";
+  std::ofstream(scene)
+      << "[mesh]\nsize = 2e-3\n[material]\nsigma_c = 2e10\n[run]\nend_time = 2e-6\n";
+  const std::string sweep = std::string(BRITTLE_EXE) + " sweep " + scene.string() +
+                            " --loads 0.05,0.9 --jobs 2 --out " + (dir / "sweep").string() + " > " +
+                            (dir / "sweep.log").string() + " 2>&1";
+  const int status = std::system(sweep.c_str());
+  const std::string log = read(dir / "sweep.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 2) << log;
+  EXPECT_NE(log.find("some runs failed"), std::string::npos) << log;
+  std::ifstream csv(dir / "sweep" / "sweep.csv");
+  ASSERT_TRUE(csv) << "no sweep.csv: " << log;
+  std::string header, completed, failed, extra;
+  std::getline(csv, header);
+  std::getline(csv, completed);
+  std::getline(csv, failed);
+  EXPECT_FALSE(std::getline(csv, extra)) << extra;
+  EXPECT_EQ(completed.rfind("0.05,", 0), 0u) << completed;
+  EXPECT_NE(completed.find("\"completed\""), std::string::npos) << completed;
+  EXPECT_EQ(failed.rfind("0.9,nan,nan,", 0), 0u) << failed;
+  EXPECT_NE(failed.find("\"failed: no summary.json"), std::string::npos) << failed;
+  EXPECT_NE(read(dir / "sweep" / "load_0.900" / "run.log").find("out of range"), std::string::npos);
 }
 
 }  // namespace
