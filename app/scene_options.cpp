@@ -4,6 +4,7 @@
 #include "scene_options.hpp"
 
 #include <algorithm>
+#include <array>
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <charconv>
@@ -16,6 +17,7 @@
 #include <map>
 #include <optional>
 #include <ostream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -250,6 +252,17 @@ const std::vector<Key>& scene_keys() {
                         scene.loading.sigma_over_sigmac = std::numeric_limits<double>::quiet_NaN();
                         return Verdict::ok;
                       }));
+    // [initial] — the state at t = 0 (initial velocities: [initial.NAME] sections)
+    k.push_back(typed<std::string>(
+        "initial.state", "", "state at t = 0",
+        "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
+        std::string("prestress"), "prestress",
+        [](const std::string& v, const Source&, Scene& scene) {
+          if (v == "prestress") scene.initial.state = InitialParams::State::prestress;
+          else if (v == "rest") scene.initial.state = InitialParams::State::rest;
+          else return Verdict::out_of_range;
+          return Verdict::ok;
+        }));
     // [fracture] — node splitting and nodal cohesive forces (SPEC 5)
     k.push_back(typed<std::string>(
         "fracture.mode", "", "which nodes may split",
@@ -439,10 +452,14 @@ std::string lower(std::string s) {
   const std::string section = dot == std::string::npos ? std::string() : name.substr(0, dot);
   if (dot == std::string::npos) {
     msg += " (keys belong in a [section] or are written section.key)";
+  } else if (section == "boundary" || section == "notch" ||
+             (section == "initial" && !find_key(name) && name != "initial.state")) {
+    msg += " (keys of [" + section + ".NAME] go in a named section, e.g. [" + section +
+           ".a], i.e. " + section + ".a." + name.substr(dot + 1) + ")";
   } else if (!is_known_section(section)) {
     msg += " (no section [" + section + "]; sections are";
     for (const auto& s : known_sections()) msg += " [" + s + "]";
-    msg += ")";
+    msg += " [boundary.NAME] [initial.NAME] [notch.NAME])";
   } else {
     // Only a trivial suggestion: same section, one typo away or differing in case.
     const std::string key = name.substr(dot + 1);
@@ -480,6 +497,229 @@ void check_syntax(std::istream& in, const Source& src) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Named sections: [boundary.NAME], [initial.NAME], [notch.NAME], any number of each.
+
+/// One key of a named section: what it expects and how it is read into the section's struct.
+struct NamedKey {
+  std::string kind;      ///< "boundary", "initial", "notch"
+  std::string key;       ///< "traction"
+  std::string unit, expected;
+};
+
+const std::vector<NamedKey>& named_keys() {
+  static const std::vector<NamedKey> keys = {
+      {"notch", "start", "m", "x, y of the notch mouth, on the plate's outline"},
+      {"notch", "direction", "", "dx, dy: direction from the mouth to the tip (normalised)"},
+      {"notch", "length", "m", "> 0: distance from the mouth to the tip"},
+      {"notch", "opening", "m", "> 0: width at the mouth"},
+      {"notch", "shape", "", "wedge (closes to a point at the tip) | slot (constant width)"},
+      {"boundary", "type", "", "fixed | velocity | traction"},
+      {"boundary", "box", "m",
+       "x_min, x_max, y_min, y_max, z_min, z_max of the reference position (inf allowed)"},
+      {"boundary", "group", "", "name of a physical group of the .msh mesh (instead of box)"},
+      {"boundary", "components", "", "fixed / velocity: which of x, y, z (default all)"},
+      {"boundary", "velocity", "m/s", "vx, vy, vz (type = velocity)"},
+      {"boundary", "traction", "Pa", "tx, ty, tz per unit reference area (type = traction)"},
+      {"boundary", "history", "", "constant | ramp | table (default constant)"},
+      {"boundary", "start", "s", ">= 0: the load is zero before this time (default 0)"},
+      {"boundary", "ramp_time", "s", "> 0: history = ramp rises from 0 to 1 over this time"},
+      {"boundary", "table", "", "history = table: t0, f0, t1, f1, ... with t ascending"},
+      {"initial", "box", "m", "as boundary.box"},
+      {"initial", "group", "", "as boundary.group"},
+      {"initial", "velocity", "m/s", "vx, vy, vz at t = 0"},
+  };
+  return keys;
+}
+
+struct NamedValue {
+  std::string value, label;  ///< the text and the source that set it last
+};
+struct NamedSection {
+  std::string kind, name;
+  std::map<std::string, NamedValue> keys;
+};
+
+/// "boundary.top.traction" -> its kind, name and key, if it is a named-section key.
+std::optional<std::array<std::string, 3>> split_named(const std::string& full) {
+  const auto a = full.find('.');
+  const auto b = full.rfind('.');
+  if (a == std::string::npos || a == b || a == 0 || b == a + 1 || b + 1 == full.size())
+    return std::nullopt;
+  const std::string kind = full.substr(0, a);
+  if (kind != "boundary" && kind != "initial" && kind != "notch") return std::nullopt;
+  return std::array<std::string, 3>{kind, full.substr(a + 1, b - a - 1), full.substr(b + 1)};
+}
+
+const NamedKey* find_named_key(const std::string& kind, const std::string& key) {
+  for (const NamedKey& k : named_keys())
+    if (k.kind == kind && k.key == key) return &k;
+  return nullptr;
+}
+
+/// Reads named sections into the scene, checking every value and the keys each type needs.
+class NamedReader {
+ public:
+  explicit NamedReader(const NamedSection& s) : s_(s) {}
+  bool has(const std::string& key) const { return s_.keys.count(key) > 0; }
+  std::string where(const std::string& key) const {
+    auto it = s_.keys.find(key);
+    return (it == s_.keys.end() ? std::string("scene") : it->second.label) + ": " + s_.kind + "." +
+           s_.name + "." + key;
+  }
+  [[noreturn]] void bad(const std::string& key, const std::string& why = "") const {
+    const NamedKey* k = find_named_key(s_.kind, key);
+    throw Error(error_message(where(key), " = '", s_.keys.at(key).value, "' ",
+                              why.empty() ? "is not valid" : why, " (expected ",
+                              k->unit.empty() ? "" : "in " + k->unit + ", ", k->expected, ")"));
+  }
+  void require(const std::string& key, const std::string& because) const {
+    if (has(key)) return;
+    const NamedKey* k = find_named_key(s_.kind, key);
+    const std::string label = s_.keys.empty() ? "scene" : s_.keys.begin()->second.label;
+    throw Error(error_message(label, ": [", s_.kind, ".", s_.name, "] needs ", key, " ", because,
+                              " (expected ", k->expected, ")"));
+  }
+  std::string word(const std::string& key, std::initializer_list<const char*> allowed) const {
+    const std::string v = s_.keys.at(key).value;
+    for (const char* a : allowed)
+      if (v == a) return v;
+    bad(key, "is not one of the allowed words");
+  }
+  /// Numbers; `infinite` allows inf / -inf.
+  std::vector<double> numbers(const std::string& key, std::size_t count, bool infinite = false) const {
+    std::vector<double> out;
+    for (const std::string& t : list_words(s_.keys.at(key).value)) {
+      if (infinite && (t == "inf" || t == "+inf" || t == "-inf")) {
+        out.push_back(t == "-inf" ? -std::numeric_limits<double>::infinity()
+                                  : std::numeric_limits<double>::infinity());
+        continue;
+      }
+      const std::optional<double> v = parse_number(t);
+      if (!v) bad(key, "is not a list of numbers");
+      out.push_back(*v);
+    }
+    if (count > 0 && out.size() != count)
+      bad(key, error_message("has ", out.size(), " numbers, not ", count));
+    return out;
+  }
+  double number(const std::string& key) const { return numbers(key, 1)[0]; }
+  RegionParams region() const {
+    RegionParams r;
+    if (has("box") && has("group"))
+      throw Error(error_message(where("group"), ": give box or group, not both"));
+    if (has("box")) {
+      r.box = numbers("box", 6, true);
+      for (int d = 0; d < 3; ++d)
+        if (!(r.box[2 * d] <= r.box[2 * d + 1])) bad("box", "has a minimum above its maximum");
+    } else if (has("group")) {
+      r.group = s_.keys.at("group").value;
+      if (r.group.empty()) bad("group", "is empty");
+    } else {
+      require("box", "or group: the region it acts on");
+    }
+    return r;
+  }
+
+ private:
+  const NamedSection& s_;
+};
+
+void read_named_sections(const std::vector<NamedSection>& sections, Scene& scene) {
+  for (const NamedSection& s : sections) {
+    NamedReader r(s);
+    if (s.kind == "notch") {
+      NotchParams n;
+      n.name = s.name;
+      for (const char* key : {"start", "direction", "length", "opening"})
+        r.require(key, "(every notch has start, direction, length and opening)");
+      const std::vector<double> start = r.numbers("start", 2), dir = r.numbers("direction", 2);
+      const double norm = std::hypot(dir[0], dir[1]);
+      if (!(norm > 0)) r.bad("direction", "is the zero vector");
+      n.start[0] = start[0], n.start[1] = start[1];
+      n.direction[0] = dir[0] / norm, n.direction[1] = dir[1] / norm;
+      n.length = r.number("length");
+      if (!(n.length > 0)) r.bad("length", "is out of range");
+      n.opening = r.number("opening");
+      if (!(n.opening > 0)) r.bad("opening", "is out of range");
+      if (r.has("shape"))
+        n.shape = r.word("shape", {"wedge", "slot"}) == "slot" ? NotchParams::Shape::slot
+                                                                : NotchParams::Shape::wedge;
+      scene.geometry.notches.push_back(n);
+    } else if (s.kind == "initial") {
+      InitialVelocityParams v;
+      v.name = s.name;
+      v.region = r.region();
+      r.require("velocity", "(an [initial.NAME] section sets an initial velocity)");
+      const std::vector<double> vel = r.numbers("velocity", 3);
+      std::copy(vel.begin(), vel.end(), v.velocity);
+      for (const char* key : {"type", "components", "traction", "history", "start", "ramp_time",
+                              "table"})
+        if (r.has(key)) r.bad(key, "is not a key of [initial.NAME]");
+      scene.initial.velocities.push_back(v);
+    } else {
+      BoundaryParams b;
+      b.name = s.name;
+      r.require("type", "");
+      const std::string type = r.word("type", {"fixed", "velocity", "traction"});
+      b.type = type == "fixed"      ? BoundaryParams::Type::fixed
+               : type == "velocity" ? BoundaryParams::Type::velocity
+                                    : BoundaryParams::Type::traction;
+      b.region = r.region();
+      if (b.type != BoundaryParams::Type::traction && r.has("components")) {
+        std::fill(b.components, b.components + 3, false);
+        const std::vector<std::string> words = list_words(s.keys.at("components").value);
+        if (words.empty()) r.bad("components", "is empty");
+        for (const std::string& w : words) {
+          if (w != "x" && w != "y" && w != "z") r.bad("components", "names an unknown component");
+          b.components[w[0] - 'x'] = true;
+        }
+      } else if (r.has("components")) {
+        r.bad("components", "is not a key of a traction (the traction vector has all three)");
+      }
+      const std::string value_key = type == "traction" ? "traction" : "velocity";
+      const std::string other_key = type == "traction" ? "velocity" : "traction";
+      if (r.has(other_key)) r.bad(other_key, "does not go with type = " + type);
+      if (type == "fixed") {
+        if (r.has("velocity")) r.bad("velocity", "does not go with type = fixed");
+        for (const char* key : {"history", "start", "ramp_time", "table"})
+          if (r.has(key)) r.bad(key, "does not go with type = fixed");
+      } else {
+        r.require(value_key, "for type = " + type);
+        const std::vector<double> v = r.numbers(value_key, 3);
+        std::copy(v.begin(), v.end(), b.value);
+        const std::string history =
+            r.has("history") ? r.word("history", {"constant", "ramp", "table"}) : "constant";
+        if (r.has("start")) {
+          b.history.start = r.number("start");
+          if (!(b.history.start >= 0)) r.bad("start", "is out of range");
+        }
+        if (history == "ramp") {
+          b.history.kind = TimeHistory::Kind::ramp;
+          r.require("ramp_time", "for history = ramp");
+          b.history.ramp_time = r.number("ramp_time");
+          if (!(b.history.ramp_time > 0)) r.bad("ramp_time", "is out of range");
+        } else if (r.has("ramp_time")) {
+          r.bad("ramp_time", "needs history = ramp");
+        }
+        if (history == "table") {
+          b.history.kind = TimeHistory::Kind::table;
+          r.require("table", "for history = table");
+          b.history.table = r.numbers("table", 0);
+          const auto& t = b.history.table;
+          if (t.size() < 2 || t.size() % 2) r.bad("table", "is not a list of (t, value) pairs");
+          for (std::size_t i = 2; i < t.size(); i += 2)
+            if (!(t[i] > t[i - 2])) r.bad("table", "has times that do not ascend");
+          if (r.has("start")) r.bad("start", "does not go with history = table (give t in it)");
+        } else if (r.has("table")) {
+          r.bad("table", "needs history = table");
+        }
+      }
+      scene.boundaries.push_back(b);
+    }
+  }
+}
+
 /// Which source last set each key, for messages about keys that constrain each other.
 struct Origins {
   std::map<std::string, std::pair<std::size_t, std::string>> by_key;  // key -> (order, label)
@@ -497,12 +737,35 @@ struct Origins {
 /// Stores one source's options into its own variables_map (so later sources can override
 /// earlier ones, which a shared map would not allow) and applies them onto the scene.
 void apply_options(const std::vector<po::option>& options, const Source& src, std::size_t order,
-                   Scene& scene, Origins& origins) {
+                   Scene& scene, Origins& origins, std::vector<NamedSection>& named) {
   const po::options_description& desc = description();
   po::variables_map vm;
   std::map<std::string, std::string> raw;
+  std::set<std::string> named_seen;
   for (const po::option& opt : options) {
     const std::string& name = opt.string_key;
+    if (const auto parts = split_named(name); parts && (opt.unregistered || !find_key(name))) {
+      const auto& [kind, section, key] = *parts;
+      if (!find_named_key(kind, key)) {
+        std::string msg = error_message(src.label, ": unknown key '", name, "' (keys of [", kind,
+                                        ".NAME] are");
+        for (const NamedKey& k : named_keys())
+          if (k.kind == kind) msg += " " + k.key;
+        throw Error(msg + ")");
+      }
+      BRITTLE_CHECK(std::all_of(section.begin(), section.end(),
+                                [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }),
+                    src.label, ": [", kind, ".", section, "]: a section name has letters, digits, "
+                    "'_' or '-' only");
+      BRITTLE_CHECK(named_seen.insert(name).second, src.label, ": ", name,
+                    " is given more than once");
+      auto it = std::find_if(named.begin(), named.end(), [&](const NamedSection& n) {
+        return n.kind == kind && n.name == section;
+      });
+      if (it == named.end()) it = named.insert(named.end(), NamedSection{kind, section, {}});
+      it->keys[key] = {opt.value.empty() ? std::string() : opt.value.front(), src.label};
+      continue;
+    }
     if (opt.unregistered || !find_key(name)) unknown_key(src, name);
     BRITTLE_CHECK(!raw.count(name), src.label, ": ", name, " is given more than once");
     const std::string value = opt.value.empty() ? std::string() : opt.value.front();
@@ -555,8 +818,30 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                 " is out of range (expected 0 <= notch_base < geometry.H = ", format_double(g.H),
                 ")");
 
+  if (!g.notches.empty()) {
+    BRITTLE_CHECK(!o.by_key.count("geometry.notch_depth") && !o.by_key.count("geometry.notch_base"),
+                  o.latest({"geometry.notch_depth", "geometry.notch_base"}),
+                  ": geometry.notch_depth/notch_base and [notch.NAME] sections are both given "
+                  "(expected one or the other: [notch.*] sections replace the paper's notch)");
+    BRITTLE_CHECK(s.mesh.file.empty(), o.latest({"mesh.file"}),
+                  ": [notch.NAME] sections shape the generated plate, but mesh.file = '",
+                  s.mesh.file, "' is read instead (expected one or the other)");
+    BRITTLE_CHECK(s.fracture.mode != FractureParams::Mode::straight, o.latest({"fracture.mode"}),
+                  ": fracture.mode = straight follows the paper's notch (y = 0, x >= a) and "
+                  "cannot be used with [notch.NAME] sections (expected branching or none)");
+  }
+  for (const BoundaryParams& b : s.boundaries)
+    BRITTLE_CHECK(b.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
+                  "[boundary.", b.name, "]: group = '", b.region.group,
+                  "' needs mesh.file to be a Gmsh .msh file with that physical group");
+  for (const InitialVelocityParams& v : s.initial.velocities)
+    BRITTLE_CHECK(v.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
+                  "[initial.", v.name, "]: group = '", v.region.group,
+                  "' needs mesh.file to be a Gmsh .msh file with that physical group");
+
   const LoadingParams& l = s.loading;
-  if (std::isnan(l.sigma) && std::isnan(l.sigma_over_sigmac)) {
+  if (s.initial.state == InitialParams::State::prestress && std::isnan(l.sigma) &&
+      std::isnan(l.sigma_over_sigmac)) {
     std::string where = "scene";
     if (!files.empty()) {
       where = files.size() == 1 ? "scene file" : "scene files";
@@ -564,13 +849,13 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
     }
     throw Error(where +
                 ": no load given (expected loading.sigma_over_sigmac or loading.sigma in "
-                "[loading])");
+                "[loading], or initial.state = rest with [boundary.NAME] loads)");
   }
   // The uniaxial pre-stress (SPEC 3) needs J = 1/(1 - sigma/(3K)) > 0.
   const double three_K = s.material.E / (1 - 2 * s.material.nu);
   const double sigma = l.stress(s.material);
   const bool by_ratio = std::isnan(l.sigma);
-  BRITTLE_CHECK(sigma < three_K,
+  BRITTLE_CHECK(s.initial.state != InitialParams::State::prestress || sigma < three_K,
                 o.latest({by_ratio ? "loading.sigma_over_sigmac" : "loading.sigma", "material.E",
                           "material.nu", "material.sigma_c"}),
                 ": load sigma = ", format_double(sigma),
@@ -607,6 +892,7 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
 Scene load_scene(const std::vector<std::string>& files, const std::vector<std::string>& overrides) {
   Scene scene;
   Origins origins;
+  std::vector<NamedSection> named;
   std::size_t order = 0;
 
   for (const std::string& file : files) {
@@ -624,7 +910,7 @@ Scene load_scene(const std::vector<std::string>& files, const std::vector<std::s
     } catch (const po::error& e) {
       throw Error(error_message(src.label, ": ", e.what()));
     }
-    apply_options(options, src, order++, scene, origins);
+    apply_options(options, src, order++, scene, origins, named);
     scene.sources.push_back(file);
   }
 
@@ -636,10 +922,11 @@ Scene load_scene(const std::vector<std::string>& files, const std::vector<std::s
     po::option opt(name, {trim(text.substr(eq + 1))});
     opt.original_tokens = {text};
     opt.unregistered = find_key(name) == nullptr;
-    apply_options({opt}, src, order++, scene, origins);
+    apply_options({opt}, src, order++, scene, origins, named);
     scene.sources.push_back("--set " + text);
   }
 
+  read_named_sections(named, scene);
   check_scene(scene, origins, files);
   return scene;
 }
@@ -685,6 +972,16 @@ void print_scene_keys(std::ostream& out) {
     }
     out << "  " << pad(k.name, name_w) << " = " << pad(k.default_text, default_w) << "  "
         << pad(k.unit.empty() ? "" : "[" + k.unit + "]", unit_w) << "  " << wrap(k) << '\n';
+  }
+  out << "\nNamed sections, any number of each (NAME: letters, digits, _ or -; docs/scenes.md):\n";
+  std::string kind;
+  for (const NamedKey& k : named_keys()) {
+    if (k.kind != kind) {
+      kind = k.kind;
+      out << "\n[" << kind << ".NAME]\n";
+    }
+    out << "  " << pad(k.key, 12) << "  " << pad(k.unit.empty() ? "" : "[" + k.unit + "]", 7)
+        << "  " << k.expected << '\n';
   }
 }
 

@@ -33,26 +33,28 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
   return best;
 }
 
-void Integrator::kick(const double* force, double tau) {
+void Integrator::kick(const double* force, double tau, double t_force, double t_velocity) {
   const vtkIdType np = grid_.num_points();
   double* v = grid_.v();
   const double* m = grid_.mass();
   const std::uint8_t* fixed = grid_.fixed();
 #pragma omp parallel for schedule(static)
   for (vtkIdType i = 0; i < np; ++i) {
-    if (fixed[i]) continue;
-    for (int k = 0; k < 3; ++k) v[3 * i + k] += tau * force[3 * i + k] / m[i];
+    for (int k = 0; k < 3; ++k)
+      if (!(fixed[i] & (1 << k))) v[3 * i + k] += tau * force[3 * i + k] / m[i];
   }
+  boundary_.after_kick(grid_, force, tau, t_force, t_velocity);
 }
 
 void Integrator::drift_unlinked(double dt) {
   const vtkIdType np = grid_.num_points();
   double* x = grid_.x();
   const double* v = grid_.v();
-  const std::uint8_t *fixed = grid_.fixed(), *linked = links_.linked().data();
+  const std::uint8_t* linked = links_.linked().data();
+  // Fixed components have v = 0, prescribed ones v(t(n) + dt/2): every node drifts.
 #pragma omp parallel for schedule(static)
   for (vtkIdType i = 0; i < np; ++i) {
-    if (fixed[i] || linked[i]) continue;  // linked nodes drift in advance_links
+    if (linked[i]) continue;  // linked nodes drift in advance_links
     for (int k = 0; k < 3; ++k) x[3 * i + k] += dt * v[3 * i + k];
   }
 }
@@ -110,10 +112,10 @@ vtkIdType Integrator::compute_element_forces(double dt) {
   return bad;
 }
 
-StepReport Integrator::step(double dt) {
+StepReport Integrator::step(double t, double dt) {
   StepReport r;
   const double half_dt = 0.5 * dt;
-  kick(forces_.nodal_forces().data(), half_dt);       // v(n+1/2) with the outer forces F(n)
+  kick(forces_.nodal_forces().data(), half_dt, t, t + half_dt);  // v(n+1/2): outer forces F(n)
   drift_unlinked(dt);                                 // x(n+1) of the nodes without links
   r.substeps = advance_links(dt, r.substeps_capped);  // linked nodes: inner forces (2.7)-(2.8)
   r.links_removed = links_.remove_broken(grid_.num_points());  // omega = 1: the link is gone
@@ -124,7 +126,7 @@ StepReport Integrator::step(double dt) {
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
   r.splits = fracture_.split_nodes(grid_, elements_, forces_);  // (2.10)-(2.12), links (2.6)
 
-  kick(forces_.nodal_forces().data(), half_dt);  // v(n+1) with F(n+1)
+  kick(forces_.nodal_forces().data(), half_dt, t + dt, t + dt);  // v(n+1) with F(n+1)
   // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
   // daughters keep K's acceleration (2.5). Without it, the unbalanced element forces of
   // the daughters would open them by dt/2 (F_B/m_B - F_A/m_A) in velocity, an O(dt)

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "boundary.hpp"
 #include "cohesive.hpp"
 #include "damage.hpp"
 #include "element_forces.hpp"
@@ -49,28 +50,31 @@ struct StepReport {
 class Integrator {
  public:
   Integrator(Grid& grid, const ElementData& elements, ForceAssembler& forces, CohesiveLinks& links,
-             Damage& damage, Fracture& fracture)
+             Damage& damage, Fracture& fracture, Boundary& boundary)
       : grid_(grid),
         elements_(elements),
         forces_(forces),
         links_(links),
         damage_(damage),
-        fracture_(fracture) {}
+        fracture_(fracture),
+        boundary_(boundary) {}
 
-  /// One step of length dt from t(n) to t(n+1):
-  ///   kick    v += dt/2 F(n)/m                        outer forces at t(n), free nodes
+  /// One step of length dt from t(n) = t to t(n+1):
+  ///   kick    v += dt/2 (F(n) + f_ext(t(n)))/m        outer forces, free components;
+  ///           constrained components get v(t(n) + dt/2)
   ///   drift   x += dt v                               nodes that hold no link
   ///   links   N x [kick, drift, law, kick] over dt/N  linked nodes (RESPA)
   ///   remove the links whose omega reached 1
   ///   F(n+1)  element forces at x(n+1)                (B.4)+(B.5)
   ///   damage  Omega(n+1), F(n+1) brought to it        (5.2)-(5.3)
   ///   split   nodes over the criterion, new links     (2.10)-(2.12), (2.6)
-  ///   kick    v += dt/2 (F(n+1) + f0 of new links)/m
+  ///   kick    v += dt/2 (F(n+1) + f_ext(t(n+1)) + f0 of new links)/m; constrained: v(t(n+1))
   /// Returns what happened; with bad_element >= 0 the state is not usable.
-  StepReport step(double dt);
+  StepReport step(double t, double dt);
 
  private:
-  void kick(const double* force, double tau);
+  /// v += tau F/m on free components, then the boundary's loads and constraints.
+  void kick(const double* force, double tau, double t_force, double t_velocity);
   void drift_unlinked(double dt);
   int advance_links(double dt, bool& capped);
   vtkIdType compute_element_forces(double dt);
@@ -81,6 +85,7 @@ class Integrator {
   CohesiveLinks& links_;
   Damage& damage_;
   Fracture& fracture_;
+  Boundary& boundary_;
   std::vector<vtkIdType> moved_;            // nodes that drifted in this step's sub-steps
   std::vector<double> start_x_, linked_v_;  // per moved node, 3 each
 };

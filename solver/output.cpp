@@ -142,15 +142,16 @@ EnergyCsvWriter::EnergyCsvWriter(const std::string& directory)
     : out_(directory + "/energies.csv", std::ios::trunc) {
   BRITTLE_CHECK(out_, "output: cannot write '", directory, "/energies.csv'");
   out_ << "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,"
-          "damage_dissipated,total,relative_imbalance\n";
+          "damage_dissipated,external_work,total,relative_imbalance\n";
 }
 
 void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
-  if (initial_ < 0) initial_ = e.total();
-  const double imbalance = initial_ > 0 ? (e.total() - initial_) / initial_ : 0.0;
+  if (first_) initial_ = e.total(), first_ = false;
+  const double imbalance = e.reference > 0 ? (e.total() - initial_) / e.reference : 0.0;
   out_ << std::setprecision(12) << e.time << ',' << e.kinetic << ',' << e.elastic << ','
        << e.viscous_dissipated << ',' << e.cohesive_stored << ',' << e.cohesive_dissipated << ','
-       << e.damage_dissipated << ',' << e.total() << ',' << imbalance << '\n';
+       << e.damage_dissipated << ',' << e.external_work << ',' << e.total() << ',' << imbalance
+       << '\n';
   out_.flush();
 }
 
@@ -197,6 +198,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["cohesive_stored"] = number(e.cohesive_stored);
   j["cohesive_dissipated"] = number(e.cohesive_dissipated);
   j["damage_dissipated"] = number(e.damage_dissipated);
+  j["external_work"] = number(e.external_work);
   j["warnings"] = s.warnings;
   j["max_relative_imbalance"] = number(s.max_relative_imbalance);
   j["splits"] = s.splits;

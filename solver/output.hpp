@@ -59,7 +59,8 @@ class EnergyCsvWriter : public Observer {
 
  private:
   std::ofstream out_;
-  double initial_ = -1;
+  double initial_ = 0;
+  bool first_ = true;
 };
 
 /// summary.json's text: every RunSummary field, the scene sources and the warnings;

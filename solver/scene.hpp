@@ -19,6 +19,19 @@ struct MaterialParams {
   double zeta2 = 0.1;       ///< normalized distortional damping (B.5) [-]
 };
 
+/// A notch cut into the generated plate through its thickness ([notch.NAME], docs/scenes.md):
+/// from `start` (on the plate's outline) along `direction` for `length`; `opening` wide at
+/// the start and closing to a point at the tip (wedge) or `opening` wide all along (slot).
+struct NotchParams {
+  enum class Shape { wedge, slot };
+  std::string name;
+  double start[2] = {0, 0};      ///< x, y [m]
+  double direction[2] = {1, 0};  ///< unit vector in the plate's plane
+  double length = 0;             ///< [m]
+  double opening = 0;            ///< [m]
+  Shape shape = Shape::wedge;
+};
+
 /// The notched plate of SPEC 1: x in [0, L], y in [-H/2, H/2], z in [0, T].
 struct GeometryParams {
   double L = 32e-3;            ///< length along x (crack direction) [m]
@@ -26,6 +39,8 @@ struct GeometryParams {
   double T = 0.5e-3;           ///< thickness along z [m]
   double notch_depth = 4e-3;   ///< a: wedge notch depth, tip at (a, 0) [m]; 0 = no notch
   double notch_base = 0.2e-3;  ///< b: notch opening at x = 0 [m]
+  /// [notch.NAME] sections; when any is given they replace the wedge above.
+  std::vector<NotchParams> notches;
 };
 
 struct MeshParams {
@@ -73,6 +88,53 @@ struct DamageParams {
   bool enabled() const { return beta1 > 0.0; }
 };
 
+/// Which nodes or boundary faces a boundary condition acts on: a box in reference coordinates
+/// (bounds may be infinite; a small tolerance is added) or a physical group of a .msh mesh.
+struct RegionParams {
+  std::vector<double> box;  ///< x_min, x_max, y_min, y_max, z_min, z_max [m], or empty
+  std::string group;        ///< physical group name, or empty
+};
+
+/// A scalar factor of time multiplying a load: constant (zero before `start`, a step), a linear
+/// ramp from 0 at `start` to 1 at start + ramp_time, then held, or a table of (t, value)
+/// pairs, linear in between and held beyond its ends.
+struct TimeHistory {
+  enum class Kind { constant, ramp, table };
+  Kind kind = Kind::constant;
+  double start = 0;      ///< [s]
+  double ramp_time = 0;  ///< [s]
+  std::vector<double> table;  ///< t0, f0, t1, f1, ...  (t ascending)
+  double at(double t) const;
+};
+
+/// One [boundary.NAME] section (docs/scenes.md): fixed components, a prescribed velocity, or a
+/// traction (nominal, per unit reference area, fixed direction) on the region's boundary faces.
+struct BoundaryParams {
+  enum class Type { fixed, velocity, traction };
+  std::string name;
+  Type type = Type::fixed;
+  RegionParams region;
+  bool components[3] = {true, true, true};  ///< fixed / velocity: which of x, y, z
+  double value[3] = {0, 0, 0};              ///< velocity [m/s] or traction [Pa]
+  TimeHistory history;
+};
+
+/// One [initial.NAME] section: an initial velocity of the nodes in a region.
+struct InitialVelocityParams {
+  std::string name;
+  RegionParams region;
+  double velocity[3] = {0, 0, 0};  ///< [m/s]
+};
+
+/// The state at t = 0: the paper's uniaxial pre-stress (B.6)-(B.9) of [loading], or at rest;
+/// initial velocities on top. With the pre-stress and no [boundary.*] section, the edges
+/// y = +-H/2 are held (the paper's plate).
+struct InitialParams {
+  enum class State { prestress, rest };
+  State state = State::prestress;
+  std::vector<InitialVelocityParams> velocities;
+};
+
 struct RunParams {
   double end_time = 30e-6;  ///< simulated time [s]
   double cfl = 0.5;         ///< fraction of the stable time step
@@ -107,6 +169,8 @@ struct Scene {
   GeometryParams geometry;
   MeshParams mesh;
   LoadingParams loading;
+  InitialParams initial;
+  std::vector<BoundaryParams> boundaries;
   FractureParams fracture;
   DamageParams damage;
   RunParams run;

@@ -19,6 +19,10 @@
 namespace fs = std::filesystem;
 using brittle::load_scene;
 using brittle::Scene;
+using brittle::BoundaryParams;
+using brittle::InitialParams;
+using brittle::NotchParams;
+using brittle::TimeHistory;
 
 namespace {
 
@@ -488,13 +492,82 @@ TEST(LoadSceneErrors, KeysThatConstrainEachOther) {
                  {f, "sigma = 1e+11 Pa is out of range", "3K"});
 }
 
+TEST(LoadScene, NamedSections) {
+  TempDir dir;
+  const std::string f = dir.write("glass.ini",
+                                  "[initial]\nstate = rest\n"
+                                  "[notch.left]\nstart = 0, 0\ndirection = 1, 0\nlength = 5e-3\n"
+                                  "opening = 1e-4\nshape = slot\n"
+                                  "[boundary.top]\ntype = traction\nbox = -inf, inf, 8e-3, 8e-3, "
+                                  "-inf, inf\ntraction = 0, 1e6, 0\n"
+                                  "[boundary.hit]\ntype = velocity\nbox = 0, 0, -inf, inf, -inf, inf\n"
+                                  "components = x\nvelocity = 16.5, 0, 0\nhistory = ramp\n"
+                                  "ramp_time = 1e-6\n"
+                                  "[initial.kick]\nbox = 0, 1e-3, -inf, inf, -inf, inf\n"
+                                  "velocity = 1, 0, 0\n");
+  // --set overrides one key of a named section; sections keep their order of appearance.
+  const Scene s = load_scene({f}, {"boundary.top.traction=0, 2e6, 0"});
+  EXPECT_EQ(s.initial.state, InitialParams::State::rest);
+  ASSERT_EQ(s.geometry.notches.size(), 1u);
+  EXPECT_EQ(s.geometry.notches[0].shape, NotchParams::Shape::slot);
+  EXPECT_EQ(s.geometry.notches[0].length, 5e-3);
+  ASSERT_EQ(s.boundaries.size(), 2u);
+  EXPECT_EQ(s.boundaries[0].name, "top");
+  EXPECT_EQ(s.boundaries[0].type, BoundaryParams::Type::traction);
+  EXPECT_EQ(s.boundaries[0].value[1], 2e6);
+  EXPECT_TRUE(std::isinf(s.boundaries[0].region.box[0]));
+  EXPECT_EQ(s.boundaries[1].type, BoundaryParams::Type::velocity);
+  EXPECT_TRUE(s.boundaries[1].components[0]);
+  EXPECT_FALSE(s.boundaries[1].components[1]);
+  EXPECT_EQ(s.boundaries[1].history.kind, TimeHistory::Kind::ramp);
+  EXPECT_DOUBLE_EQ(s.boundaries[1].history.at(0.5e-6), 0.5);
+  ASSERT_EQ(s.initial.velocities.size(), 1u);
+  EXPECT_EQ(s.initial.velocities[0].velocity[0], 1.0);
+}
+
+TEST(LoadSceneErrors, NamedSections) {
+  TempDir dir;
+  const std::string f = (dir / "bad.ini").string();
+  const std::string rest = "[initial]\nstate = rest\n";
+  expect_message(file_error(dir, rest + "[boundary.top]\nbox = 0,1,0,1,0,1\n"),
+                 {f, "[boundary.top] needs type", "fixed | velocity | traction"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = push\nbox = 0,1,0,1,0,1\n"),
+                 {f, "boundary.top.type = 'push'", "fixed | velocity | traction"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = traction\nbox = 0,1,0,1,0,1\n"),
+                 {f, "[boundary.top] needs traction"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = fixed\n"),
+                 {f, "[boundary.top] needs box", "or group"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = fixed\nbox = 0,1,0\n"),
+                 {f, "boundary.top.box = '0,1,0' has 3 numbers, not 6"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = fixed\nbox = 1,0,0,1,0,1\n"),
+                 {f, "boundary.top.box", "minimum above its maximum"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = fixed\nbox = 0,1,0,1,0,1\n"
+                                        "traction = 1,2,3\n"),
+                 {f, "boundary.top.traction", "does not go with type = fixed"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = fixed\ngroup = top\n"),
+                 {"[boundary.top]: group = 'top' needs mesh.file to be a Gmsh .msh file"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntpye = fixed\n"),
+                 {f, "unknown key 'boundary.top.tpye'", "keys of [boundary.NAME] are type box"});
+  expect_message(file_error(dir, rest + "[boundary]\ntype = fixed\n"),
+                 {f, "unknown key 'boundary.type'", "e.g. [boundary.a]"});
+  expect_message(file_error(dir, rest + "[boundary.top]\ntype = velocity\nbox = 0,1,0,1,0,1\n"
+                                        "velocity = 1,0,0\nhistory = table\ntable = 0,0,1e-6\n"),
+                 {f, "boundary.top.table", "(t, value) pairs"});
+  expect_message(file_error(dir, rest + "[notch.a]\nstart = 0,0\ndirection = 0,0\nlength = 1\n"
+                                        "opening = 1\n"),
+                 {f, "notch.a.direction", "zero vector"});
+  expect_message(file_error(dir, rest + "[geometry]\nnotch_depth = 1e-3\n[notch.a]\nstart = 0,0\n"
+                                        "direction = 1,0\nlength = 1e-3\nopening = 1e-4\n"),
+                 {f, "[notch.NAME] sections are both given"});
+}
+
 TEST(LoadSceneErrors, ExactlyOneLoad) {
   TempDir dir;
   const std::string f = (dir / "bad.ini").string();
   EXPECT_EQ(file_error(dir, "[material]\nE = 3e9\n"),
             "scene file '" + f +
                 "': no load given (expected loading.sigma_over_sigmac or loading.sigma in "
-                "[loading])");
+                "[loading], or initial.state = rest with [boundary.NAME] loads)");
   expect_message(file_error(dir, "[loading]\nsigma_over_sigmac = 0.6\nsigma = 1e6\n"),
                  {f, "loading.sigma_over_sigmac and loading.sigma are both given"});
   const std::string a = dir.write("a.ini", "[material]\nE = 3e9\n");
@@ -705,6 +778,24 @@ TEST(SceneDocs, EveryKeyIsDocumented) {
     EXPECT_NE(doc.find("`" + key + "`"), std::string::npos) << key << " is missing from docs/scenes.md";
   }
   EXPECT_GT(keys, 40);
+  // Keys of named sections: "[boundary.NAME]" then "  type  ..." lines, documented as
+  // `boundary.NAME.type`.
+  std::istringstream named(help.str().substr(help.str().find("Named sections")));
+  std::string kind;
+  int named_keys = 0;
+  for (std::string line; std::getline(named, line);) {
+    if (line.rfind("[", 0) == 0) {
+      kind = line.substr(1, line.find('.') - 1);
+      continue;
+    }
+    std::istringstream words(line);
+    std::string key;
+    if (kind.empty() || line.rfind("  ", 0) != 0 || !(words >> key)) continue;
+    ++named_keys;
+    EXPECT_NE(doc.find("`" + kind + ".NAME." + key + "`"), std::string::npos)
+        << kind << ".NAME." << key << " is missing from docs/scenes.md";
+  }
+  EXPECT_GT(named_keys, 15);
 }
 
 }  // namespace

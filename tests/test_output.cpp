@@ -101,7 +101,7 @@ TEST(Output, TimeSeriesReadsBackAsWritten) {
   std::getline(csv, header);
   EXPECT_EQ(header,
             "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,"
-            "damage_dissipated,total,relative_imbalance");
+            "damage_dissipated,external_work,total,relative_imbalance");
   int rows = 0;
   while (std::getline(csv, line)) ++rows;
   EXPECT_GE(rows, 10);

@@ -1,0 +1,292 @@
+// Boundary conditions, external loads and the initial state (SPEC 3; docs/model.md,
+// "Boundary conditions and loads").
+#include "boundary.hpp"
+
+#include <vtkCellType.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "error.hpp"
+
+namespace brittle {
+
+double TimeHistory::at(double t) const {
+  switch (kind) {
+    case Kind::constant:
+      return t >= start ? 1.0 : 0.0;
+    case Kind::ramp:
+      if (t <= start) return 0.0;
+      return ramp_time > 0 && t < start + ramp_time ? (t - start) / ramp_time : 1.0;
+    case Kind::table: {
+      const std::size_t n = table.size() / 2;
+      if (n == 0) return 0.0;
+      if (t <= table[0]) return table[1];
+      for (std::size_t i = 1; i < n; ++i)
+        if (t <= table[2 * i]) {
+          const double t0 = table[2 * i - 2], t1 = table[2 * i];
+          const double f0 = table[2 * i - 1], f1 = table[2 * i + 1];
+          return f0 + (f1 - f0) * (t - t0) / (t1 - t0);
+        }
+      return table[2 * n - 1];
+    }
+  }
+  return 0.0;
+}
+
+std::string group_array_name(const std::string& group) {
+  return "group:" + group;
+}
+
+namespace {
+
+std::string describe(const RegionParams& r) {
+  if (!r.group.empty()) return "physical group '" + r.group + "'";
+  std::string s = "box";
+  for (std::size_t i = 0; i < r.box.size(); ++i) s += error_message(i ? ", " : " ", r.box[i]);
+  return s;
+}
+
+/// In-region flag per node of the mesh.
+std::vector<std::uint8_t> region_mask(const RegionParams& region, vtkUnstructuredGrid& mesh,
+                                      const std::string& where) {
+  const vtkIdType np = mesh.GetNumberOfPoints();
+  std::vector<std::uint8_t> in(np, 0);
+  if (!region.group.empty()) {
+    vtkDataArray* a = mesh.GetPointData()->GetArray(group_array_name(region.group).c_str());
+    if (a == nullptr) {
+      std::string known;
+      for (int i = 0; i < mesh.GetPointData()->GetNumberOfArrays(); ++i) {
+        const char* name = mesh.GetPointData()->GetArrayName(i);
+        if (name && std::string(name).rfind("group:", 0) == 0)
+          known += (known.empty() ? "" : ", ") + std::string(name + 6);
+      }
+      throw Error(error_message(where, ": the mesh has no physical group '", region.group,
+                                "' (it has: ", known.empty() ? "none" : known, ")"));
+    }
+    for (vtkIdType p = 0; p < np; ++p) in[p] = a->GetTuple1(p) != 0 ? 1 : 0;
+    return in;
+  }
+  BRITTLE_CHECK(region.box.size() == 6, where, ": a region needs a box or a group");
+  double b[6];
+  mesh.GetBounds(b);
+  const double tol =
+      1e-6 * std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+                       (b[5] - b[4]) * (b[5] - b[4]));
+  for (vtkIdType p = 0; p < np; ++p) {
+    double X[3];
+    mesh.GetPoint(p, X);
+    bool inside = true;
+    for (int d = 0; d < 3; ++d)
+      inside = inside && X[d] >= region.box[2 * d] - tol && X[d] <= region.box[2 * d + 1] + tol;
+    in[p] = inside ? 1 : 0;
+  }
+  return in;
+}
+
+using Face = std::array<vtkIdType, 3>;
+
+}  // namespace
+
+std::vector<vtkIdType> select_nodes(const RegionParams& region, vtkUnstructuredGrid& mesh,
+                                    const std::string& where, bool allow_empty) {
+  const std::vector<std::uint8_t> in = region_mask(region, mesh, where);
+  std::vector<vtkIdType> nodes;
+  for (vtkIdType p = 0; p < static_cast<vtkIdType>(in.size()); ++p)
+    if (in[p]) nodes.push_back(p);
+  BRITTLE_CHECK(allow_empty || !nodes.empty(), where, ": the region (", describe(region),
+                ") selects no node of the mesh");
+  return nodes;
+}
+
+std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
+                                                vtkUnstructuredGrid& mesh,
+                                                const std::string& where) {
+  const std::vector<std::uint8_t> in = region_mask(region, mesh, where);
+  // Faces with all three nodes in the region, counted over the tets that have them: once =
+  // on the surface, twice = interior. The fourth node of the tet gives the outward side.
+  struct Seen {
+    int count = 0;
+    Face nodes;  // in the tet's order
+    vtkIdType opposite;
+  };
+  std::map<Face, Seen> faces;
+  vtkNew<vtkIdList> ids;
+  static constexpr int kFace[4][4] = {{1, 2, 3, 0}, {0, 3, 2, 1}, {0, 1, 3, 2}, {0, 2, 1, 3}};
+  for (vtkIdType c = 0; c < mesh.GetNumberOfCells(); ++c) {
+    if (mesh.GetCellType(c) != VTK_TETRA) continue;
+    mesh.GetCellPoints(c, ids);
+    for (const auto& f : kFace) {
+      const Face nodes = {ids->GetId(f[0]), ids->GetId(f[1]), ids->GetId(f[2])};
+      if (!in[nodes[0]] || !in[nodes[1]] || !in[nodes[2]]) continue;
+      Face key = nodes;
+      std::sort(key.begin(), key.end());
+      Seen& s = faces[key];
+      if (s.count++ == 0) s.nodes = nodes, s.opposite = ids->GetId(f[3]);
+    }
+  }
+  std::vector<BoundaryFace> out;
+  long interior = 0;
+  for (const auto& [key, s] : faces) {
+    if (s.count > 1) {
+      ++interior;
+      continue;
+    }
+    BoundaryFace bf;
+    double p[4][3];
+    for (int j = 0; j < 3; ++j) bf.node[j] = s.nodes[j], mesh.GetPoint(s.nodes[j], p[j]);
+    mesh.GetPoint(s.opposite, p[3]);
+    const Vec3 a = Vec3(p[1]) - Vec3(p[0]), b = Vec3(p[2]) - Vec3(p[0]);
+    Vec3 n = a.cross(b);
+    bf.area = 0.5 * n.norm();
+    n.normalize();
+    if (n.dot(Vec3(p[3]) - Vec3(p[0])) > 0) n = -n;
+    for (int d = 0; d < 3; ++d) bf.normal[d] = n[d];
+    out.push_back(bf);
+  }
+  BRITTLE_CHECK(interior == 0, where, ": the region (", describe(region), ") holds ", interior,
+                " interior face(s); a traction acts on boundary faces only (use a thin box "
+                "around the surface or a surface group)");
+  BRITTLE_CHECK(!out.empty(), where, ": the region (", describe(region),
+                ") holds no boundary face of the mesh");
+  return out;
+}
+
+void apply_initial_state(const Scene& scene, double sigma, const ElasticConstants& c, Grid& grid,
+                         vtkUnstructuredGrid& mesh) {
+  double* x = grid.x();
+  const double* X = grid.X();
+  if (scene.initial.state == InitialParams::State::prestress) {
+    // Uniaxial stress sigma along y: x = (b X, lambda Y, b Z)   (B.6)
+    const UniaxialStretch s = uniaxial_prestress(sigma, c.K, c.mu);
+    for (vtkIdType i = 0; i < grid.num_points(); ++i) {
+      x[3 * i] = s.b * X[3 * i];
+      x[3 * i + 1] = s.lambda * X[3 * i + 1];
+      x[3 * i + 2] = s.b * X[3 * i + 2];
+    }
+  }
+  double* v = grid.v();
+  for (const InitialVelocityParams& iv : scene.initial.velocities)
+    for (vtkIdType p : select_nodes(iv.region, mesh, "[initial." + iv.name + "]"))
+      for (int d = 0; d < 3; ++d) v[3 * p + d] = iv.velocity[d];
+}
+
+Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
+    : params_(scene.boundaries) {
+  const bool paper_plate =
+      params_.empty() && scene.initial.state == InitialParams::State::prestress;
+  if (paper_plate) {
+    // The paper's plate: the lateral edges y = +-H/2 held at their pre-stressed positions
+    // (an imported mesh without nodes there is left free, as before the boundary sections).
+    const double inf = std::numeric_limits<double>::infinity(), h2 = 0.5 * scene.geometry.H;
+    for (double y : {h2, -h2}) {
+      BoundaryParams b;
+      b.name = y > 0 ? "top (paper)" : "bottom (paper)";
+      b.region.box = {-inf, inf, y, y, -inf, inf};
+      params_.push_back(b);
+    }
+  }
+  const vtkIdType np = grid.num_points();
+  // Per node component: the last boundary that constrains it wins.
+  std::vector<int> owner(3 * np, -1);
+  std::vector<std::vector<std::pair<std::size_t, Vec3>>> load(np);
+  std::uint8_t* fixed = grid.fixed();
+  for (std::size_t b = 0; b < params_.size(); ++b) {
+    const BoundaryParams& p = params_[b];
+    const std::string where = "[boundary." + p.name + "]";
+    if (p.type == BoundaryParams::Type::traction) {
+      const std::vector<BoundaryFace> faces = select_boundary_faces(p.region, mesh, where);
+      double area = 0;
+      for (const BoundaryFace& f : faces) {
+        area += f.area;
+        for (vtkIdType n : f.node) {
+          auto& entries = load[n];
+          if (entries.empty() || entries.back().first != b) entries.push_back({b, Vec3::Zero()});
+          entries.back().second += Vec3(p.value) * (f.area / 3.0);  // int t N_i dA = t A / 3
+          fixed[n] |= constraint::no_split;
+        }
+      }
+      description_.push_back(error_message(where, " traction ", p.value[0], ", ", p.value[1], ", ",
+                                           p.value[2], " Pa on ", faces.size(), " faces, area ",
+                                           area, " m^2"));
+    } else {
+      const std::vector<vtkIdType> nodes = select_nodes(p.region, mesh, where, paper_plate);
+      for (vtkIdType n : nodes) {
+        for (int d = 0; d < 3; ++d)
+          if (p.components[d]) owner[3 * n + d] = static_cast<int>(b);
+        fixed[n] |= constraint::no_split;
+      }
+      description_.push_back(
+          error_message(where, p.type == BoundaryParams::Type::fixed ? " fixed " : " velocity ",
+                        p.components[0] ? "x" : "", p.components[1] ? "y" : "",
+                        p.components[2] ? "z" : "", " on ", nodes.size(), " nodes"));
+    }
+  }
+  for (vtkIdType n = 0; n < np; ++n) {
+    Constrained c{n, 0, {}};
+    for (int d = 0; d < 3; ++d)
+      if (owner[3 * n + d] >= 0) {
+        c.mask |= static_cast<std::uint8_t>(1 << d);
+        c.boundary[d] = static_cast<std::size_t>(owner[3 * n + d]);
+      }
+    if (c.mask) constraints_.push_back(c);
+    fixed[n] |= c.mask;
+    for (const auto& [b, f] : load[n]) loads_.push_back({n, {f[0], f[1], f[2]}, b});
+  }
+}
+
+void Boundary::impose_velocities(Grid& grid, double t) const {
+  double* v = grid.v();
+  for (const Constrained& c : constraints_)
+    for (int d = 0; d < 3; ++d)
+      if (c.mask & (1 << d)) {
+        const BoundaryParams& p = params_[c.boundary[d]];
+        v[3 * c.node + d] =
+            p.type == BoundaryParams::Type::velocity ? p.value[d] * p.history.at(t) : 0.0;
+      }
+}
+
+void Boundary::after_kick(Grid& grid, const double* force, double tau, double t_force,
+                          double t_velocity) {
+  double* v = grid.v();
+  const double* m = grid.mass();
+  const std::uint8_t* fixed = grid.fixed();
+  // Tractions: loads_ is in node order, so one node's entries are adjacent.
+  for (std::size_t i = 0; i < loads_.size();) {
+    const vtkIdType n = loads_[i].node;
+    std::size_t end = i;
+    Vec3 impulse = Vec3::Zero();
+    for (; end < loads_.size() && loads_[end].node == n; ++end)
+      impulse += tau * params_[loads_[end].boundary].history.at(t_force) * Vec3(loads_[end].f);
+    for (int d = 0; d < 3; ++d) {
+      if (fixed[n] & (1 << d)) continue;  // a constrained component takes no traction
+      const double after_elements = v[3 * n + d];
+      const double before = after_elements - tau * force[3 * n + d] / m[n];
+      const double after = after_elements + impulse[d] / m[n];
+      v[3 * n + d] = after;
+      traction_work_ += impulse[d] * 0.5 * (before + after);
+    }
+    i = end;
+  }
+  // Constraints: the reaction is whatever impulse brings the component to its velocity.
+  for (const Constrained& c : constraints_)
+    for (int d = 0; d < 3; ++d)
+      if (c.mask & (1 << d)) {
+        const BoundaryParams& p = params_[c.boundary[d]];
+        const double target =
+            p.type == BoundaryParams::Type::velocity ? p.value[d] * p.history.at(t_velocity) : 0.0;
+        double& vd = v[3 * c.node + d];
+        const double impulse = m[c.node] * (target - vd) - tau * force[3 * c.node + d];
+        reaction_work_ += impulse * 0.5 * (vd + target);
+        vd = target;
+      }
+}
+
+}  // namespace brittle
