@@ -49,12 +49,12 @@ inline double zhou_speed(double W, double G0 = 1000.0, double v_inf = 675.0) {
 //      path, starts a pending branch of that tip (at most one per tip; another is absorbed);
 //   4. else is absorbed when it lies within `join` of a recorded path point;
 //   5. else is a nucleation: a new tip with no parent.
-// A pending branch becomes a branching event once it and the continuing tip are both at least
-// `separation` from where it was born and from each other: the parent tip ends at the branch
-// point (intersection of the two arms' fitted lines) and two child tips start there. A pending
-// branch that stops while its parent goes on by `separation` is dropped (a micro-branch: its
-// splits stay absorbed); one that goes on by `separation` while its parent stops is a kink and
-// is appended to its parent. Until then the parent's newest samples are provisional.
+// A pending branch becomes a branching event once each head is `separation` from the other arm:
+// the parent tip ends at the branch point (intersection of the lines fitted to the two arms) and
+// two child tips start there. A pending branch whose head comes back within join/2 of the other
+// arm, or that goes on by `separation` while its parent stops (a kink), is merged into its
+// parent; one that stops while its parent goes on by `separation` is dropped (a micro-branch: its
+// splits stay absorbed). Until then the parent's newest samples are provisional.
 // ---------------------------------------------------------------------------------------------
 
 /// One crack tip: where and when it started and the positions it took.
@@ -86,7 +86,7 @@ struct Nucleation {
   int tip = -1;  ///< the tip it started
 };
 
-/// Follows all crack tips from the stream of splits; O(active tips) per split. Deterministic:
+/// Follows all crack tips from the stream of splits; O(tips) per split. Deterministic:
 /// the same stream gives the same tips.
 class CrackFronts {
  public:
