@@ -65,6 +65,10 @@ namespace {
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 constexpr double degrees = 180.0 / 3.14159265358979323846;
 
+double distance(double ax, double ay, double bx, double by) {
+  return std::hypot(ax - bx, ay - by);
+}
+
 /// Least-squares slope of v (one value per sample) against the samples' t over [begin, end).
 SpeedFit fit_values(const std::vector<TipSample>& s, const std::vector<double>& v,
                     std::size_t begin, std::size_t end) {
@@ -122,12 +126,6 @@ CrackFronts::CrackFronts(double join_distance, double separation_distance)
                 "crack fronts: separation distance ", separation_, " must be > the join distance ",
                 join_);
 }
-
-namespace {
-double distance(double ax, double ay, double bx, double by) {
-  return std::hypot(ax - bx, ay - by);
-}
-}  // namespace
 
 CrackFronts::Point CrackFronts::head_point(const TipTrack& t) const {
   return t.path.empty() ? Point{t.x_start, t.y_start} : Point{t.path.back().x, t.path.back().y};
