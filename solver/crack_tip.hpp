@@ -2,6 +2,8 @@
 // compared with.
 #pragma once
 
+#include <limits>
+#include <unordered_map>
 #include <vector>
 
 namespace brittle {
@@ -12,10 +14,10 @@ struct TipSample {
 };
 
 struct SpeedFit {
-  double speed = 0;     ///< least-squares slope dx/dt [m/s] (NaN if fewer than 3 samples)
+  double speed = 0;  ///< least-squares slope dx/dt [m/s] (NaN if fewer than 3 samples)
   double t_begin = 0, t_end = 0;
   int samples = 0;
-  double r2 = 0;        ///< coefficient of determination of the linear fit
+  double r2 = 0;  ///< coefficient of determination of the linear fit
 };
 
 /// Steady speed: least-squares slope of x(t) over samples from t_start until the first
@@ -34,5 +36,138 @@ inline double strain_energy_per_area(double H, double sigma, double E) {
 inline double zhou_speed(double W, double G0 = 1000.0, double v_inf = 675.0) {
   return W > G0 ? v_inf * (1.0 - G0 / W) : 0.0;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Every crack tip of a branching run (docs/crack_fronts.md). The stream of node splits, in
+// reference in-plane coordinates (z ignored: the plate's layers are one front), is sorted into
+// tips. Each split, in this order of precedence:
+//   1. advances the nearest active tip (or pending branch) whose head is within `join` and whose
+//      forward cone (45 degrees either side of its direction) contains the split;
+//   2. else is absorbed when it lies within join/2 of a recorded path point (re-splits,
+//      granddaughters, other z layers, crack widening);
+//   3. else, when it is within `join` of an active tip's head or of the last `separation` of its
+//      path, starts a pending branch of that tip (at most one per tip; another is absorbed);
+//   4. else is absorbed when it lies within `join` of a recorded path point;
+//   5. else is a nucleation: a new tip with no parent.
+// A pending branch becomes a branching event once each head is `separation` from the other arm:
+// the parent tip ends at the branch point (intersection of the lines fitted to the two arms) and
+// two child tips start there. A pending branch whose head comes back within join/2 of the other
+// arm, or that goes on by `separation` while its parent stops (a kink), is merged into its
+// parent; one that stops while its parent goes on by `separation` is dropped (a micro-branch: its
+// splits stay absorbed). Until then the parent's newest samples are provisional.
+// ---------------------------------------------------------------------------------------------
+
+/// One crack tip: where and when it started and the positions it took.
+struct TipTrack {
+  enum class Origin { seed, nucleation, branch };
+  int id = -1;
+  int parent = -1;  ///< the tip it branched from; -1 for a seed or a nucleation
+  Origin origin = Origin::seed;
+  /// Start: the seed point (t = time of the first split that moved it, NaN before), the
+  /// nucleating split, or the branch point (t = branching time).
+  double t_start = std::numeric_limits<double>::quiet_NaN(), x_start = 0, y_start = 0;
+  /// Direction [deg from +x] of the chord from the start to the first sample at least
+  /// `separation` away (the seed's given direction; NaN while a nucleation is shorter).
+  double start_angle_deg = std::numeric_limits<double>::quiet_NaN();
+  double length_at_start = 0;   ///< crack length from the root (seed / nucleation) to the start
+  std::vector<TipSample> path;  ///< the tip's position after each split that advanced it
+  std::vector<double> arc;      ///< path length from the start at each sample (see speed())
+  bool active = true;           ///< false once the tip has branched
+};
+
+struct BranchingEvent {
+  double t = 0, x = 0, y = 0;  ///< time the parent reached the branch point; the branch point
+  double angle_deg = 0;        ///< angle between the two arms over their first `separation`
+  int parent = -1, child_a = -1, child_b = -1;  ///< child_a is counter-clockwise of child_b
+};
+
+struct Nucleation {
+  double t = 0, x = 0, y = 0;
+  int tip = -1;  ///< the tip it started
+};
+
+/// Follows all crack tips from the stream of splits; O(tips) per split. Deterministic:
+/// the same stream gives the same tips.
+class CrackFronts {
+ public:
+  /// join: a split within this in-plane distance of a tip can advance it (2-3 element sizes).
+  /// separation: two tips born near one point are a branching once this far apart (> join).
+  CrackFronts(double join_distance, double separation_distance);
+
+  /// A tip that exists before any split (the notch tip) and its direction. Returns its id.
+  int add_seed(double x, double y, double direction_x, double direction_y);
+  /// One split at time t at reference position (x, y); call in split order (t non-decreasing).
+  void on_split(double t, double x, double y);
+
+  const std::vector<TipTrack>& tips() const { return tips_; }
+  const std::vector<BranchingEvent>& branchings() const { return branchings_; }
+  const std::vector<Nucleation>& nucleations() const { return nucleations_; }
+  long splits() const { return splits_; }
+  long absorbed() const { return absorbed_; }  ///< splits that moved no tip
+  int pending_branches() const { return static_cast<int>(pending_.size()); }
+
+  /// Speed of a tip: least-squares slope of arc (path length) against t over all its samples,
+  /// or over those with t_begin <= t <= t_end (NaN with fewer than 3 samples).
+  SpeedFit speed(int tip) const;
+  SpeedFit speed(int tip, double t_begin, double t_end) const;
+  /// Speed at every sample of a tip: the slope over |t - t_i| <= half_window (0 if < 3).
+  std::vector<double> smoothed_speed(int tip, double half_window) const;
+
+  /// The leading tip (for crack_tip.csv): of the tips descended from a seed (all tips when there
+  /// is no seed), the one with the longest crack from its root, length_at_start + arc; the
+  /// lowest id on a tie; -1 with no tips.
+  int leading() const;
+  /// Current position of a tip: its last sample, or its start.
+  TipSample head(int tip) const;
+
+ private:
+  struct Point {
+    double x = 0, y = 0;
+  };
+  /// Arc-length bookkeeping of a track: knots at least `join` apart along the path, so that
+  /// lateral jitter of the samples does not add length.
+  struct Geometry {
+    Point dir0;  ///< direction before the track has length (zero: unknown)
+    std::vector<Point> knots;
+    std::vector<double> knot_arc;
+    int root = -1;  ///< the seed or nucleation tip this track descends from
+  };
+  struct Pending {
+    int parent = -1;
+    TipTrack track;  ///< unpublished; samples of the new arm
+    Geometry geometry;
+    Point born;           ///< parent path point nearest to the first split
+    int born_index = -1;  ///< its index in the parent path (-1: the parent's start)
+    Point parent_mark;    ///< parent head when this branch last advanced
+    Point branch_mark;    ///< branch head when the parent last advanced
+  };
+
+  Point head_point(const TipTrack& t) const;
+  Point direction(const TipTrack& t, const Geometry& g) const;
+  void append(TipTrack& t, Geometry& g, const TipSample& s);
+  void start_geometry(Geometry& g, Point origin, Point dir0) const;
+  int add_tip(TipTrack track, Geometry geometry);
+  bool near_path(Point p, double radius) const;
+  void remember(Point p);
+  void rebuild(TipTrack& t, Geometry& g);
+  double nearest_recent(const TipTrack& t, Point p, int& index) const;
+  void start_branch(int parent, int index, const TipSample& s);
+  double distance_to(const std::vector<TipSample>& s, std::size_t begin, Point p) const;
+  bool on_recent_path(const TipTrack& par, const Pending& b, Point X) const;
+  void update_branch(std::size_t k);
+  void merge(std::size_t k);
+  void confirm(std::size_t k);
+
+  double join_, separation_;
+  double branch_reach_;  ///< how far behind its birth a branch point may lie (4 separation)
+  std::vector<TipTrack> tips_;
+  std::vector<Geometry> geometry_;
+  std::vector<Pending> pending_;
+  std::vector<BranchingEvent> branchings_;
+  std::vector<Nucleation> nucleations_;
+  std::unordered_map<long long, std::vector<Point>> cells_;  ///< every path point, by join cell
+  long splits_ = 0, absorbed_ = 0;
+  double last_t_ = -std::numeric_limits<double>::infinity();
+};
 
 }  // namespace brittle
