@@ -2,6 +2,7 @@
 #include "figures.hpp"
 
 #include <algorithm>
+#include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,11 +11,9 @@
 #include <iomanip>
 #include <sstream>
 
-#include <boost/program_options.hpp>
-
 #include "chart.hpp"
-#include "crack_tip.hpp"
 #include "command_line.hpp"
+#include "crack_tip.hpp"
 #include "error.hpp"
 #include "lists.hpp"
 #include "paths.hpp"
@@ -76,8 +75,8 @@ std::string fit_table(const std::vector<SweepSeries>& series) {
   std::ostringstream t;
   t << std::fixed << std::setprecision(1);
   for (const SweepSeries& s : series)
-    t << "  " << std::left << std::setw(28) << s.label << " mean |v - v_fit|/v_fit (0.5-1.0): "
-      << 100 * mean_fit_error(s, 0.5, 1.0) << " %\n";
+    t << "  " << std::left << std::setw(28) << s.label
+      << " mean |v - v_fit|/v_fit (0.5-1.0): " << 100 * mean_fit_error(s, 0.5, 1.0) << " %\n";
   return t.str();
 }
 
@@ -92,15 +91,21 @@ void write_speed_chart(const std::string& path, const std::string& title,
   ChartSeries fit{"Zhou et al. fit (1.1)", {}, {}, ChartSeries::Style::line, {0, 0, 0}, 0};
   for (double W = 1000.0; W <= W_max; W += 50.0) fit.x.push_back(W), fit.y.push_back(zhou_speed(W));
   lines.push_back(fit);
-  lines.push_back({"Rayleigh speed", {0, W_max}, {v_R, v_R}, ChartSeries::Style::dashed,
-                   {90, 90, 90}, 0});
-  lines.push_back({"damped Rayleigh sqrt(1-Omega_d0) v_R", {0, W_max}, {v_damped, v_damped},
-                   ChartSeries::Style::dashed, {160, 160, 160}, 0});
+  lines.push_back(
+      {"Rayleigh speed", {0, W_max}, {v_R, v_R}, ChartSeries::Style::dashed, {90, 90, 90}, 0});
+  lines.push_back({"damped Rayleigh sqrt(1-Omega_d0) v_R",
+                   {0, W_max},
+                   {v_damped, v_damped},
+                   ChartSeries::Style::dashed,
+                   {160, 160, 160},
+                   0});
   for (std::size_t i = 0; i < series.size(); ++i) {
-    ChartSeries s{series[i].label, {}, {}, ChartSeries::Style::points, kColors[i % kColors.size()],
-                  static_cast<int>(i)};
+    ChartSeries s{
+        series[i].label,    {}, {}, ChartSeries::Style::points, kColors[i % kColors.size()],
+        static_cast<int>(i)};
     for (const SweepPoint& p : series[i].points)
-      if (p.status == "completed" && std::isfinite(p.speed)) s.x.push_back(p.W), s.y.push_back(p.speed);
+      if (p.status == "completed" && std::isfinite(p.speed))
+        s.x.push_back(p.W), s.y.push_back(p.speed);
     lines.push_back(s);
   }
   render::ChartAxes axes;
@@ -115,9 +120,10 @@ int chart_command(const std::vector<std::string>& args) {
   std::vector<std::string> sweeps;
   std::string out, title = "Crack speed against strain energy";
   po::options_description opts("brittle chart options");
-  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(), "PNG to write")(
-      "title", po::value(&title), "chart title")(
-      "sweep", po::value(&sweeps)->composing(), "sweep directories, each optionally DIR=LABEL");
+  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(),
+                                                 "PNG to write")(
+      "title", po::value(&title), "chart title")("sweep", po::value(&sweeps)->composing(),
+                                                 "sweep directories, each optionally DIR=LABEL");
   auto vm = parse_command_line(args, opts, "sweep");
   if (vm.count("help")) {
     std::ostringstream text;
@@ -131,11 +137,79 @@ int chart_command(const std::vector<std::string>& args) {
   for (const std::string& s : sweeps) {
     const auto eq = s.find('=');
     const std::string dir = s.substr(0, eq);
-    series.push_back(read_sweep(dir, eq == std::string::npos ? fs::path(dir).filename().string()
-                                                               : s.substr(eq + 1)));
+    series.push_back(read_sweep(
+        dir, eq == std::string::npos ? fs::path(dir).filename().string() : s.substr(eq + 1)));
   }
   write_speed_chart(out, title, series);
   write_series_csv(fs::path(out).replace_extension(".csv").string(), series);
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}
+
+int tips_command(const std::vector<std::string>& args) {
+  std::vector<std::string> runs;
+  std::string out, title = "Speed of the leading crack tip";
+  double rayleigh = 0;
+  po::options_description opts("brittle tips options");
+  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(),
+                                                 "PNG to write")(
+      "title", po::value(&title), "chart title")("rayleigh", po::value(&rayleigh),
+                                                 "draw the Rayleigh speed [m/s] as a dashed line")(
+      "run", po::value(&runs)->composing(), "run directories, each optionally DIR=LABEL");
+  auto vm = parse_command_line(args, opts, "run");
+  if (vm.count("help")) {
+    std::ostringstream text;
+    text << "usage: brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V]\n"
+         << opts;
+    std::printf("%s", text.str().c_str());
+    return 0;
+  }
+  po::notify(vm);
+  BRITTLE_CHECK(!runs.empty(), "brittle tips: no run directory given");
+  std::vector<render::ChartSeries> lines;
+  double t_max = 0, v_max = rayleigh;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto eq = runs[i].find('=');
+    const std::string dir = runs[i].substr(0, eq);
+    const std::string csv = (fs::path(dir) / "crack_tip.csv").string();
+    std::ifstream in(csv);
+    BRITTLE_CHECK(in.good(), "brittle tips: '", csv,
+                  "' cannot be opened (expected a run directory "
+                  "of a run with fracture)");
+    render::ChartSeries s{
+        eq == std::string::npos ? fs::path(dir).filename().string() : runs[i].substr(eq + 1),
+        {},
+        {},
+        render::ChartSeries::Style::line,
+        kColors[i % kColors.size()],
+        0};
+    std::string line;
+    std::getline(in, line);  // time,tip_x,tip_y,splits,speed
+    for (int row = 2; std::getline(in, line); ++row) {
+      const std::vector<std::string> cells = list_words(line);
+      const auto t = cells.size() == 5 ? parse_number(cells[0]) : std::nullopt;
+      const auto v = cells.size() == 5 ? parse_number(cells[4]) : std::nullopt;
+      BRITTLE_CHECK(t && v, "brittle tips: '", csv, "', line ", row,
+                    ": expected time,tip_x,tip_y,splits,speed");
+      s.x.push_back(*t * 1e6), s.y.push_back(*v);
+      t_max = std::max(t_max, *t * 1e6), v_max = std::max(v_max, *v);
+    }
+    lines.push_back(std::move(s));
+  }
+  if (rayleigh > 0)
+    lines.push_back({"Rayleigh speed",
+                     {0, t_max},
+                     {rayleigh, rayleigh},
+                     render::ChartSeries::Style::dashed,
+                     {0, 0, 0},
+                     0});
+  render::ChartAxes axes;
+  axes.title = title;
+  axes.x_title = "t  [us]";
+  axes.y_title = "tip speed  [m/s]";
+  axes.x_min = 0, axes.x_max = t_max > 0 ? t_max : 1, axes.y_min = 0;
+  axes.y_max = v_max > 0 ? 1.1 * v_max : 1;
+  render::write_chart_png(out, axes, lines);
   std::printf("wrote %s\n", out.c_str());
   return 0;
 }
@@ -184,10 +258,11 @@ int reproduce_command(const std::vector<std::string>& args) {
   };
   const std::vector<double> load_list = parse_loads(loads);
   if (scenes.empty()) scenes = bundled_scenes_directory();
-  for (const char* file : {"cm.ini", "rm.ini", "rate-dependent.ini", "rate-dependent-calibrated.ini",
-                           "damage.ini"})
+  for (const char* file :
+       {"cm.ini", "rm.ini", "rate-dependent.ini", "rate-dependent-calibrated.ini", "damage.ini"})
     BRITTLE_CHECK(fs::is_regular_file(fs::path(scenes) / file), "brittle reproduce: scene '",
-                  (fs::path(scenes) / file).string(), "' does not exist (expected the shipped "
+                  (fs::path(scenes) / file).string(),
+                  "' does not exist (expected the shipped "
                   "scenes in --scenes DIR)");
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(out);
@@ -210,7 +285,8 @@ int reproduce_command(const std::vector<std::string>& args) {
                          overlays, damage});
       }
   if (wanted("rm"))
-    specs.push_back({"RD-RM calibrated", "rm", {"rate-dependent-calibrated.ini", "damage.ini"}, true});
+    specs.push_back(
+        {"RD-RM calibrated", "rm", {"rate-dependent-calibrated.ini", "damage.ini"}, true});
   std::vector<SweepSeries> without, with;
   for (const Spec& spec : specs) {
     SweepOptions o;
@@ -239,14 +315,14 @@ int reproduce_command(const std::vector<std::string>& args) {
   write_speed_chart(out + "/fig06b.png", "Fig. 6b: RI and RD nodal cohesive forces with damage",
                     with);
   write_series_csv(out + "/fig06b.csv", with);
-  const std::string table = "Fig. 5 (no damage):\n" + fit_table(without) +
-                            "Fig. 6b (damage):\n" + fit_table(with);
+  const std::string table =
+      "Fig. 5 (no damage):\n" + fit_table(without) + "Fig. 6b (damage):\n" + fit_table(with);
   std::ofstream(out + "/fit_errors.txt") << table;
   std::printf("%s", table.c_str());
   if (!no_frames) {
     // Figs. 7-10 are with damage (paper section 6), straight and branching, 60 % and 90 %.
-    std::vector<std::string> figure_args = {scenes + "/cm.ini", scenes + "/damage.ini", "--out",
-                                            out, "--runs", out + "/runs"};
+    std::vector<std::string> figure_args = {
+        scenes + "/cm.ini", scenes + "/damage.ini", "--out", out, "--runs", out + "/runs"};
     figure_command(figure_args);
   }
   const double minutes =

@@ -24,6 +24,10 @@ void write_speed_chart(const std::string& path, const std::string& title,
 /// finished sweeps (their run directories and sweep.csv).
 int chart_command(const std::vector<std::string>& args);
 
+/// `brittle tips RUN_DIR[=LABEL]... --out FIG.png`: the leading tip's speed against time from
+/// each run's crack_tip.csv, as a VTK chart (docs/benchmarks.md).
+int tips_command(const std::vector<std::string>& args);
+
 /// `brittle reproduce [--out DIR] [--scenes DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]
 /// [--no-frames]`: the eight sweeps of Figs. 5-6 (RI/RD links x damage off/on x CM/RM),
 /// fig05.png (no damage; the paper's Fig. 6a shows the same runs) and fig06b.png (with

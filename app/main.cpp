@@ -1,21 +1,20 @@
 // brittle: command line entry point. Parses the scene, builds the simulation, attaches the
 // writers, runs, and maps errors to a one-line message and a non-zero exit code.
 #include <unistd.h>
+#include <vtkObject.h>
 
+#include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
 
-#include <boost/program_options.hpp>
-#include <vtkObject.h>
-
 #include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
-#include "render_commands.hpp"
 #include "paths.hpp"
+#include "render_commands.hpp"
 #include "run_scene.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
@@ -31,7 +30,9 @@ const char* kUsage =
     "       brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T,...] [--field F ...] "
     "[--set render.key=value ...] [--out DIR]\n"
     "       brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n"
-    "       brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]  (Figs. 5-10)\n"
+    "       brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V]\n"
+    "       brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]  (Figs. "
+    "5-10)\n"
     "       brittle figure SCENE.ini [MORE.ini ...] [--set ...] [--runs DIR] [--out DIR] "
     "[--reuse]\n"
     "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
@@ -59,21 +60,31 @@ class Progress : public brittle::Observer {
     const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
     const auto& f = sim.fracture();
     const double tip = f.splits() > 0 ? f.tip_x() : sim.scene().geometry.notch_depth;
-    std::fprintf(stderr, "\r  step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s   ",
+    std::fprintf(stderr,
+                 "\r  step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s   ",
                  sim.steps(), sim.time() * 1e6, 100 * fraction, tip * 1e3, f.splits(), eta);
   }
   void on_warning(const brittle::Simulation&, const std::string& message) override {
     std::fprintf(stderr, "%sbrittle: warning: %s\n", tty_ ? "\n" : "", message.c_str());
   }
-  void on_finish(const brittle::Simulation&, const brittle::RunSummary& s) override {
+  void on_finish(const brittle::Simulation& sim, const brittle::RunSummary& s) override {
     if (tty_) std::fputc('\n', stderr);
-    std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n",
-                 s.status.c_str(), s.steps, s.wall_seconds, s.tet_updates_per_second);
-    if (s.splits > 0)
+    std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n", s.status.c_str(),
+                 s.steps, s.wall_seconds, s.tet_updates_per_second);
+    if (s.splits == 0) return;
+    const auto& fronts = sim.fronts();
+    if (sim.scene().initial.state == brittle::InitialParams::State::prestress)
       std::fprintf(stderr,
                    "brittle: %ld splits, tip at x = %.2f mm; steady speed %.0f m/s (Zhou fit at "
                    "W = %.0f N/m: %.0f m/s)\n",
                    s.splits, s.tip_x * 1e3, s.crack_speed.speed, s.W, s.zhou_speed);
+    else
+      std::fprintf(stderr,
+                   "brittle: %ld splits, leading tip at (%.2f, %.2f) mm; steady speed %.0f m/s\n",
+                   s.splits, s.tip_x * 1e3, s.tip_y * 1e3, s.crack_speed.speed);
+    std::fprintf(stderr,
+                 "brittle: %zu crack tips, %zu branchings, %zu nucleations (summary.json)\n",
+                 fronts.tips().size(), fronts.branchings().size(), fronts.nucleations().size());
   }
 
  private:
@@ -96,7 +107,8 @@ int run_command(const std::vector<std::string>& args) {
     brittle::print_scene_keys(std::cout);
     return 0;
   }
-  BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (", "usage: brittle run "
+  BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (",
+                "usage: brittle run "
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
@@ -135,6 +147,7 @@ int main(int argc, char** argv) {
     if (args[0] == "render") return brittle::render_command({args.begin() + 1, args.end()});
     if (args[0] == "figure") return brittle::figure_command({args.begin() + 1, args.end()});
     if (args[0] == "chart") return brittle::chart_command({args.begin() + 1, args.end()});
+    if (args[0] == "tips") return brittle::tips_command({args.begin() + 1, args.end()});
     if (args[0] == "reproduce") return brittle::reproduce_command({args.begin() + 1, args.end()});
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;

@@ -1,7 +1,13 @@
-// `brittle render`, `brittle figure` and the [render] observer of `brittle run` (docs/rendering.md).
+// `brittle render`, `brittle figure` and the [render] observer of `brittle run`
+// (docs/rendering.md).
 #include "render_commands.hpp"
 
+#include <vtkImageData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
 #include <algorithm>
+#include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,11 +16,6 @@
 #include <map>
 #include <sstream>
 #include <tuple>
-
-#include <boost/program_options.hpp>
-#include <vtkImageData.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
 #include "command_line.hpp"
 #include "error.hpp"
@@ -141,14 +142,16 @@ void add_render_times_to_frames(Scene& scene) {
   OutputParams& o = scene.output;
   std::vector<double> times = o.frame_times;
   if (times.empty() && o.frame_interval > 0) {  // the grid Simulation::frame_times would use
-    const long n = static_cast<long>(std::floor(scene.run.end_time / o.frame_interval * (1 + 1e-12)));
+    const long n =
+        static_cast<long>(std::floor(scene.run.end_time / o.frame_interval * (1 + 1e-12)));
     for (long k = 0; k <= n; ++k) times.push_back(k * o.frame_interval);
   }
   times.insert(times.end(), scene.render.times.begin(), scene.render.times.end());
   std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end(),
-                          [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
-              times.end());
+  times.erase(
+      std::unique(times.begin(), times.end(),
+                  [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
+      times.end());
   o.frame_times = times;
 }
 
@@ -160,10 +163,11 @@ std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
 int render_command(const std::vector<std::string>& args) {
   const char* usage =
       "usage: brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T1,T2,...] "
-      "[--field sigma1|damage ...] [--set render.key=value ...] [--out DIR]";
+      "[--field sigma1|damage ...] [--set render.key=value ...] [--out DIR] [--panel FILE.png "
+      "[--title T]]";
   po::options_description opts("brittle render options");
   std::vector<std::string> inputs, sets, field_options;
-  std::string times_text, out;
+  std::string times_text, out, panel_path, title;
   opts.add_options()("help,h", "this help")(
       "times", po::value(&times_text),
       "times in s, comma separated (default: render.times, else every stored frame)")(
@@ -171,6 +175,9 @@ int render_command(const std::vector<std::string>& args) {
       "sigma1 and/or damage, repeatable or comma separated (default: render.fields)")(
       "set", po::value(&sets)->composing(), "override one [render] key: render.key=value")(
       "out", po::value(&out), "where the PNGs go (default: render.directory, else RUN_DIR/render)")(
+      "panel", po::value(&panel_path),
+      "also lay the frames out in one PNG: a row per field, a column per time")(
+      "title", po::value(&title), "title across the top of the panel")(
       "input", po::value(&inputs)->composing(), "the .pvd, then scene files for [render] keys");
   auto vm = parse_command_line(args, opts, "input");
   po::notify(vm);
@@ -193,25 +200,40 @@ int render_command(const std::vector<std::string>& args) {
   }
   const std::vector<Field> fields =
       fields_of(field_options.empty() ? scene.render.fields : list_words(field_options));
-  const std::string directory = !out.empty()                      ? out
-                                : !scene.render.directory.empty() ? scene.render.directory
-                                : (fs::path(pvd).parent_path() / "render").string();
+  const std::string directory = !out.empty() ? out
+                                : !scene.render.directory.empty()
+                                    ? scene.render.directory
+                                    : (fs::path(pvd).parent_path() / "render").string();
 
   render::FrameRenderer renderer(scene.render);
   double seconds = 0;
   int frames = 0;
+  std::vector<std::vector<vtkSmartPointer<vtkImageData>>> cells(fields.size());
   for (const auto& [t, entry] : picks) {
     auto grid = read_frame(entry->file);
     const auto t0 = std::chrono::steady_clock::now();
-    for (Field f : fields) {
-      auto image = renderer.render(*grid, f);
-      render::write_png(*image, directory + "/" + render::frame_file_name(f, t));
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      auto image = renderer.render(*grid, fields[i]);
+      render::write_png(*image, directory + "/" + render::frame_file_name(fields[i], t));
+      if (!panel_path.empty()) cells[i].push_back(image);
       ++frames;
     }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   std::cout << "wrote " << frames << " PNG frames to " << directory << " ("
             << (frames ? seconds / frames : 0) << " s per frame)\n";
+  if (!panel_path.empty()) {
+    std::vector<std::vector<vtkImageData*>> raw(fields.size());
+    std::vector<std::string> rows, columns;
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      rows.push_back(fields.size() == 1 ? "" : fields[i] == Field::sigma1 ? "sigma1" : "Omega");
+      for (auto& image : cells[i]) raw[i].push_back(image);
+    }
+    for (const auto& pick : picks) columns.push_back(error_message(pick.first * 1e6, " us"));
+    auto composed = render::panel(raw, rows, columns, title);
+    render::write_png(*composed, panel_path);
+    std::cout << "wrote " << panel_path << "\n";
+  }
   return 0;
 }
 
@@ -222,8 +244,8 @@ int figure_command(const std::vector<std::string>& args) {
   po::options_description opts("brittle figure options");
   std::vector<std::string> files, sets;
   std::string runs = "out/figures", out = "figures";
-  opts.add_options()("help,h", "this help")(
-      "set", po::value(&sets)->composing(), "override one key for all four runs")(
+  opts.add_options()("help,h", "this help")("set", po::value(&sets)->composing(),
+                                            "override one key for all four runs")(
       "runs", po::value(&runs), "where the four runs go (default out/figures)")(
       "out", po::value(&out), "where fig07.png ... fig10.png go (default figures)")(
       "reuse", "take existing runs in --runs when they hold frames at every row time")(
@@ -231,7 +253,8 @@ int figure_command(const std::vector<std::string>& args) {
   auto vm = parse_command_line(args, opts, "scene");
   po::notify(vm);
   if (vm.count("help")) {
-    std::cout << usage << "\n\nRuns straight and branching fracture at 60 % and 90 % of sigma_c "
+    std::cout << usage
+              << "\n\nRuns straight and branching fracture at 60 % and 90 % of sigma_c "
                  "(rows: render.times, default 1, 15, 30 us) and lays the frames out as the "
                  "paper's Figs. 7-10.\n\n"
               << opts;
@@ -256,24 +279,26 @@ int figure_command(const std::vector<std::string>& args) {
       if (vm.count("reuse") && fs::is_regular_file(pvd)) {
         const auto stored = read_pvd(pvd);
         have = std::all_of(times.begin(), times.end(), [&](double t) {
-          return std::any_of(stored.begin(), stored.end(),
-                             [&](const PvdEntry& e) { return std::abs(e.time - t) <= kTimeTolerance; });
+          return std::any_of(stored.begin(), stored.end(), [&](const PvdEntry& e) {
+            return std::abs(e.time - t) <= kTimeTolerance;
+          });
         });
       }
       if (have) {
         std::cerr << "brittle figure: reusing " << dir << "\n";
       } else {
         std::vector<std::string> overrides = sets;
-        overrides.insert(overrides.end(),
-                         {"fracture.mode=" + mode, "loading.sigma_over_sigmac=" + error_message(load),
-                          "output.directory=" + dir, "output.frame_times=" + times_text,
-                          "output.vtu=true", "run.end_time=" + error_message(times.back()),
-                          "render.times="});
+        overrides.insert(
+            overrides.end(),
+            {"fracture.mode=" + mode, "loading.sigma_over_sigmac=" + error_message(load),
+             "output.directory=" + dir, "output.frame_times=" + times_text, "output.vtu=true",
+             "run.end_time=" + error_message(times.back()), "render.times="});
         const Scene scene = load_scene(files, overrides);
         std::cerr << "brittle figure: " << mode << " fracture at " << percent(load)
                   << " % of sigma_c -> " << dir << "\n";
         const RunSummary s = run_scene(scene);
-        std::fprintf(stderr, "brittle figure:   %s, %ld steps in %.1f s, %ld splits, tip x = %.2f mm\n",
+        std::fprintf(stderr,
+                     "brittle figure:   %s, %ld steps in %.1f s, %ld splits, tip x = %.2f mm\n",
                      s.status.c_str(), s.steps, s.wall_seconds, s.splits, s.tip_x * 1e3);
       }
       series[{mode, load}] = read_pvd(pvd);

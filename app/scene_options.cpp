@@ -154,17 +154,18 @@ bool non_negative(const double& v) {
 /// A list of times in s: comma/space separated, each >= 0, strictly ascending; empty = none.
 Key time_list(const std::string& name, const std::string& meaning,
               std::vector<double>& (*target)(Scene&)) {
-  Key k = typed<std::string>(
-      name, "s", meaning, "each >= 0, strictly ascending; empty = none", std::string(), "\"\"",
-      [target](const std::string& v, const Source&, Scene& scene) {
-        NumberList list = parse_number_list(v);
-        if (list.bad) return Verdict::malformed;
-        const std::vector<double>& t = list.values;
-        for (std::size_t i = 0; i < t.size(); ++i)
-          if (t[i] < 0 || (i > 0 && t[i] <= t[i - 1])) return Verdict::out_of_range;
-        target(scene) = std::move(list.values);
-        return Verdict::ok;
-      });
+  Key k = typed<std::string>(name, "s", meaning, "each >= 0, strictly ascending; empty = none",
+                             std::string(), "\"\"",
+                             [target](const std::string& v, const Source&, Scene& scene) {
+                               NumberList list = parse_number_list(v);
+                               if (list.bad) return Verdict::malformed;
+                               const std::vector<double>& t = list.values;
+                               for (std::size_t i = 0; i < t.size(); ++i)
+                                 if (t[i] < 0 || (i > 0 && t[i] <= t[i - 1]))
+                                   return Verdict::out_of_range;
+                               target(scene) = std::move(list.values);
+                               return Verdict::ok;
+                             });
   k.type_word = "a list of numbers";
   return k;
 }
@@ -253,25 +254,32 @@ const std::vector<Key>& scene_keys() {
                         return Verdict::ok;
                       }));
     // [initial] — the state at t = 0 (initial velocities: [initial.NAME] sections)
-    k.push_back(typed<std::string>(
-        "initial.state", "", "state at t = 0",
-        "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
-        std::string("prestress"), "prestress",
-        [](const std::string& v, const Source&, Scene& scene) {
-          if (v == "prestress") scene.initial.state = InitialParams::State::prestress;
-          else if (v == "rest") scene.initial.state = InitialParams::State::rest;
-          else return Verdict::out_of_range;
-          return Verdict::ok;
-        }));
+    k.push_back(
+        typed<std::string>("initial.state", "", "state at t = 0",
+                           "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
+                           std::string("prestress"), "prestress",
+                           [](const std::string& v, const Source&, Scene& scene) {
+                             if (v == "prestress")
+                               scene.initial.state = InitialParams::State::prestress;
+                             else if (v == "rest")
+                               scene.initial.state = InitialParams::State::rest;
+                             else
+                               return Verdict::out_of_range;
+                             return Verdict::ok;
+                           }));
     // [fracture] — node splitting and nodal cohesive forces (SPEC 5)
     k.push_back(typed<std::string>(
         "fracture.mode", "", "which nodes may split",
         "none | straight (only y = 0, x >= a, normal stress (6.7)) | branching (any node)",
         std::string("none"), "none", [](const std::string& v, const Source&, Scene& scene) {
-          if (v == "none") scene.fracture.mode = FP::Mode::none;
-          else if (v == "straight") scene.fracture.mode = FP::Mode::straight;
-          else if (v == "branching") scene.fracture.mode = FP::Mode::branching;
-          else return Verdict::out_of_range;
+          if (v == "none")
+            scene.fracture.mode = FP::Mode::none;
+          else if (v == "straight")
+            scene.fracture.mode = FP::Mode::straight;
+          else if (v == "branching")
+            scene.fracture.mode = FP::Mode::branching;
+          else
+            return Verdict::out_of_range;
           return Verdict::ok;
         }));
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
@@ -306,14 +314,14 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("damage.beta3", &Scene::damage, &DP::beta3, "",
                       "damage threshold as a fraction of sigma_c (5.3); paper: 0.95", "0 < b3 < 1",
                       [](const double& v) { return v > 0 && v < 1; }));
-    k.push_back(typed<double>(
-        "damage.Omega_d0", "", "largest damage (5.3)",
-        "0 <= Omega_d0 < 1; unset = 1 - (v_inf/v_R)^2 (6.6) = 0.445", std::nullopt, "(from v_inf, v_R)",
-        [](const double& v, const Source&, Scene& scene) {
-          if (!(v >= 0 && v < 1)) return Verdict::out_of_range;
-          scene.damage.Omega_d0 = v;
-          return Verdict::ok;
-        }));
+    k.push_back(typed<double>("damage.Omega_d0", "", "largest damage (5.3)",
+                              "0 <= Omega_d0 < 1; unset = 1 - (v_inf/v_R)^2 (6.6) = 0.445",
+                              std::nullopt, "(from v_inf, v_R)",
+                              [](const double& v, const Source&, Scene& scene) {
+                                if (!(v >= 0 && v < 1)) return Verdict::out_of_range;
+                                scene.damage.Omega_d0 = v;
+                                return Verdict::ok;
+                              }));
     k.push_back(field("damage.v_inf", &Scene::damage, &DP::v_inf, "m/s",
                       "limiting crack speed of the Zhou fit, for Omega_d0 (6.6)", "> 0", positive));
     k.push_back(field("damage.v_R", &Scene::damage, &DP::v_R, "m/s",
@@ -371,24 +379,28 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("render.height", &Scene::render, &ReP::height, "px", "PNG frame height",
                       "16 ... 8192", [](const int& v) { return v >= 16 && v <= 8192; }));
     k.push_back(field("render.sigma1_min", &Scene::render, &ReP::sigma1_min, "",
-                      "sigma1/sigma_c at the bottom of the colour bar", "< render.sigma1_max", [](const double&) { return true; }));
+                      "sigma1/sigma_c at the bottom of the colour bar", "< render.sigma1_max",
+                      [](const double&) { return true; }));
     k.push_back(field("render.sigma1_max", &Scene::render, &ReP::sigma1_max, "",
-                      "sigma1/sigma_c at the top of the colour bar", "> render.sigma1_min", [](const double&) { return true; }));
+                      "sigma1/sigma_c at the top of the colour bar", "> render.sigma1_min",
+                      [](const double&) { return true; }));
     k.push_back(field("render.damage_min", &Scene::render, &ReP::damage_min, "",
-                      "Omega at the bottom of the colour bar", "< render.damage_max", [](const double&) { return true; }));
+                      "Omega at the bottom of the colour bar", "< render.damage_max",
+                      [](const double&) { return true; }));
     k.push_back(field("render.damage_max", &Scene::render, &ReP::damage_max, "",
-                      "Omega at the top of the colour bar", "> render.damage_min", [](const double&) { return true; }));
+                      "Omega at the top of the colour bar", "> render.damage_min",
+                      [](const double&) { return true; }));
     k.push_back(field("render.magnification", &Scene::render, &ReP::magnification, "",
-                      "displacement magnification (1 = true deformed shape, 0 = reference)",
-                      ">= 0", non_negative));
+                      "displacement magnification (1 = true deformed shape, 0 = reference)", ">= 0",
+                      non_negative));
     k.push_back(field("render.zoom", &Scene::render, &ReP::zoom, "",
                       "camera zoom about the plate centre (1 = whole plate)", "> 0", positive));
-    k.push_back(typed<std::string>(
-        "render.directory", "", "where PNG frames go", "empty = <output.directory>/render",
-        std::string(), "\"\"", [](const std::string& v, const Source&, Scene& scene) {
-          scene.render.directory = v;
-          return Verdict::ok;
-        }));
+    k.push_back(typed<std::string>("render.directory", "", "where PNG frames go",
+                                   "empty = <output.directory>/render", std::string(), "\"\"",
+                                   [](const std::string& v, const Source&, Scene& scene) {
+                                     scene.render.directory = v;
+                                     return Verdict::ok;
+                                   }));
     return k;
   }();
   return keys;
@@ -502,8 +514,8 @@ void check_syntax(std::istream& in, const Source& src) {
 
 /// One key of a named section: what it expects and how it is read into the section's struct.
 struct NamedKey {
-  std::string kind;      ///< "boundary", "initial", "notch"
-  std::string key;       ///< "traction"
+  std::string kind;  ///< "boundary", "initial", "notch"
+  std::string key;   ///< "traction"
   std::string unit, expected;
 };
 
@@ -587,7 +599,8 @@ class NamedReader {
     bad(key, "is not one of the allowed words");
   }
   /// Numbers; `infinite` allows inf / -inf.
-  std::vector<double> numbers(const std::string& key, std::size_t count, bool infinite = false) const {
+  std::vector<double> numbers(const std::string& key, std::size_t count,
+                              bool infinite = false) const {
     std::vector<double> out;
     for (const std::string& t : list_words(s_.keys.at(key).value)) {
       if (infinite && (t == "inf" || t == "+inf" || t == "-inf")) {
@@ -644,7 +657,7 @@ void read_named_sections(const std::vector<NamedSection>& sections, Scene& scene
       if (!(n.opening > 0)) r.bad("opening", "is out of range");
       if (r.has("shape"))
         n.shape = r.word("shape", {"wedge", "slot"}) == "slot" ? NotchParams::Shape::slot
-                                                                : NotchParams::Shape::wedge;
+                                                               : NotchParams::Shape::wedge;
       scene.geometry.notches.push_back(n);
     } else if (s.kind == "initial") {
       InitialVelocityParams v;
@@ -653,8 +666,8 @@ void read_named_sections(const std::vector<NamedSection>& sections, Scene& scene
       r.require("velocity", "(an [initial.NAME] section sets an initial velocity)");
       const std::vector<double> vel = r.numbers("velocity", 3);
       std::copy(vel.begin(), vel.end(), v.velocity);
-      for (const char* key : {"type", "components", "traction", "history", "start", "ramp_time",
-                              "table"})
+      for (const char* key :
+           {"type", "components", "traction", "history", "start", "ramp_time", "table"})
         if (r.has(key)) r.bad(key, "is not a key of [initial.NAME]");
       scene.initial.velocities.push_back(v);
     } else {
@@ -747,16 +760,18 @@ void apply_options(const std::vector<po::option>& options, const Source& src, st
     if (const auto parts = split_named(name); parts && (opt.unregistered || !find_key(name))) {
       const auto& [kind, section, key] = *parts;
       if (!find_named_key(kind, key)) {
-        std::string msg = error_message(src.label, ": unknown key '", name, "' (keys of [", kind,
-                                        ".NAME] are");
+        std::string msg =
+            error_message(src.label, ": unknown key '", name, "' (keys of [", kind, ".NAME] are");
         for (const NamedKey& k : named_keys())
           if (k.kind == kind) msg += " " + k.key;
         throw Error(msg + ")");
       }
-      BRITTLE_CHECK(std::all_of(section.begin(), section.end(),
-                                [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }),
-                    src.label, ": [", kind, ".", section, "]: a section name has letters, digits, "
-                    "'_' or '-' only");
+      BRITTLE_CHECK(
+          std::all_of(section.begin(), section.end(),
+                      [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }),
+          src.label, ": [", kind, ".", section,
+          "]: a section name has letters, digits, "
+          "'_' or '-' only");
       BRITTLE_CHECK(named_seen.insert(name).second, src.label, ": ", name,
                     " is given more than once");
       auto it = std::find_if(named.begin(), named.end(), [&](const NamedSection& n) {
@@ -831,13 +846,15 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   "cannot be used with [notch.NAME] sections (expected branching or none)");
   }
   for (const BoundaryParams& b : s.boundaries)
-    BRITTLE_CHECK(b.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
-                  "[boundary.", b.name, "]: group = '", b.region.group,
-                  "' needs mesh.file to be a Gmsh .msh file with that physical group");
+    BRITTLE_CHECK(
+        b.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
+        "[boundary.", b.name, "]: group = '", b.region.group,
+        "' needs mesh.file to be a Gmsh .msh file with that physical group");
   for (const InitialVelocityParams& v : s.initial.velocities)
-    BRITTLE_CHECK(v.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
-                  "[initial.", v.name, "]: group = '", v.region.group,
-                  "' needs mesh.file to be a Gmsh .msh file with that physical group");
+    BRITTLE_CHECK(
+        v.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",
+        "[initial.", v.name, "]: group = '", v.region.group,
+        "' needs mesh.file to be a Gmsh .msh file with that physical group");
 
   const LoadingParams& l = s.loading;
   if (s.initial.state == InitialParams::State::prestress && std::isnan(l.sigma) &&
@@ -864,16 +881,22 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
 
   const DamageParams& d = s.damage;
   BRITTLE_CHECK(d.v_inf < d.v_R, o.latest({"damage.v_inf", "damage.v_R"}),
-                ": damage.v_inf = ", format_double(d.v_inf), " m/s is out of range (expected < "
-                "damage.v_R = ", format_double(d.v_R), " m/s, so that Omega_d0 (6.6) lies in (0, 1))");
+                ": damage.v_inf = ", format_double(d.v_inf),
+                " m/s is out of range (expected < "
+                "damage.v_R = ",
+                format_double(d.v_R), " m/s, so that Omega_d0 (6.6) lies in (0, 1))");
 
   const RenderParams& r = s.render;
   BRITTLE_CHECK(r.sigma1_min < r.sigma1_max, o.latest({"render.sigma1_min", "render.sigma1_max"}),
-                ": render.sigma1_min = ", format_double(r.sigma1_min), " is not below "
-                "render.sigma1_max = ", format_double(r.sigma1_max), " (expected min < max)");
+                ": render.sigma1_min = ", format_double(r.sigma1_min),
+                " is not below "
+                "render.sigma1_max = ",
+                format_double(r.sigma1_max), " (expected min < max)");
   BRITTLE_CHECK(r.damage_min < r.damage_max, o.latest({"render.damage_min", "render.damage_max"}),
-                ": render.damage_min = ", format_double(r.damage_min), " is not below "
-                "render.damage_max = ", format_double(r.damage_max), " (expected min < max)");
+                ": render.damage_min = ", format_double(r.damage_min),
+                " is not below "
+                "render.damage_max = ",
+                format_double(r.damage_max), " (expected min < max)");
 
   if (!s.mesh.file.empty()) {
     const std::string who = o.latest({"mesh.file"});

@@ -19,11 +19,11 @@ SpeedFit fit(const std::vector<TipSample>& s, std::size_t begin, std::size_t end
     return r;
   }
   double mt = 0, mx = 0;
-  for (std::size_t i = begin; i < end; ++i) mt += s[i].t, mx += s[i].x;
+  for (std::size_t i = begin; i < end; ++i) mt += s[i].t, mx += s[i].s;
   mt /= r.samples, mx /= r.samples;
   double stt = 0, stx = 0, sxx = 0;
   for (std::size_t i = begin; i < end; ++i) {
-    const double dt = s[i].t - mt, dx = s[i].x - mx;
+    const double dt = s[i].t - mt, dx = s[i].s - mx;
     stt += dt * dt, stx += dt * dx, sxx += dx * dx;
   }
   r.speed = stx / stt;
@@ -35,14 +35,13 @@ SpeedFit fit(const std::vector<TipSample>& s, std::size_t begin, std::size_t end
 
 }  // namespace
 
-SpeedFit steady_speed(const std::vector<TipSample>& samples, double t_start, double x_stop) {
-  std::size_t begin = 0;
-  while (begin < samples.size() && samples[begin].t < t_start) ++begin;
-  std::size_t end = begin;
-  while (end < samples.size()) {
-    if (samples[end++].x >= x_stop) break;
-  }
+SpeedFit fit_speed(const std::vector<TipSample>& samples, std::size_t begin, std::size_t end) {
   return fit(samples, begin, end);
+}
+
+SpeedFit steady_speed(const std::vector<TipSample>& samples, double t_start, double x_stop) {
+  return steady_speed_until(samples, t_start,
+                            [x_stop](const TipSample& s) { return s.x >= x_stop; });
 }
 
 std::vector<double> smoothed_speed(const std::vector<TipSample>& samples, double half_window) {
@@ -496,6 +495,15 @@ void CrackFronts::confirm(std::size_t k) {
       add_tip(std::move(a_left ? track_b : track_a), std::move(a_left ? geometry_b : geometry_a));
   e.child_a = id_a, e.child_b = id_b;
   branchings_.push_back(e);
+}
+
+double CrackFronts::departure_angle_deg(int tip, double distance) const {
+  BRITTLE_CHECK(tip >= 0 && tip < static_cast<int>(tips_.size()), "crack fronts: no tip ", tip);
+  const TipTrack& t = tips_[tip];
+  for (const TipSample& p : t.path)
+    if (std::hypot(p.x - t.x_start, p.y - t.y_start) >= distance)
+      return 180.0 / M_PI * std::atan2(p.y - t.y_start, p.x - t.x_start);
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 SpeedFit CrackFronts::speed(int tip) const {

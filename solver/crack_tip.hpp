@@ -11,6 +11,9 @@ namespace brittle {
 struct TipSample {
   double t = 0, x = 0, y = 0;  ///< time, tip reference position
   long splits = 0;             ///< nodes split so far
+  /// Where the tip is along the crack, the coordinate speeds are slopes of: x on the paper's
+  /// plate (SPEC 5), the crack length from the notch tip along the leading path otherwise.
+  double s = 0;
 };
 
 struct SpeedFit {
@@ -20,11 +23,28 @@ struct SpeedFit {
   double r2 = 0;  ///< coefficient of determination of the linear fit
 };
 
-/// Steady speed: least-squares slope of x(t) over samples from t_start until the first
+/// Steady speed: least-squares slope of s(t) over samples from t_start until the first
 /// sample at or beyond x_stop (inclusive) or the last sample.
 SpeedFit steady_speed(const std::vector<TipSample>& samples, double t_start, double x_stop);
 
-/// Instantaneous speed at every sample: least-squares slope over |t - t_i| <= half_window.
+/// The same, ending at the first sample for which `stop` holds (inclusive).
+template <class Stop>
+SpeedFit steady_speed_until(const std::vector<TipSample>& samples, double t_start, Stop stop);
+
+/// Least-squares slope of s(t) over samples [begin, end).
+SpeedFit fit_speed(const std::vector<TipSample>& samples, std::size_t begin, std::size_t end);
+
+template <class Stop>
+SpeedFit steady_speed_until(const std::vector<TipSample>& samples, double t_start, Stop stop) {
+  std::size_t begin = 0;
+  while (begin < samples.size() && samples[begin].t < t_start) ++begin;
+  std::size_t end = begin;
+  while (end < samples.size())
+    if (stop(samples[end++])) break;
+  return fit_speed(samples, begin, end);
+}
+
+/// Instantaneous speed at every sample: least-squares slope of s over |t - t_i| <= half_window.
 std::vector<double> smoothed_speed(const std::vector<TipSample>& samples, double half_window);
 
 /// W = H sigma^2 / (2E): strain energy per unit crack area of the strip (SPEC 3).
@@ -103,6 +123,8 @@ class CrackFronts {
   const std::vector<BranchingEvent>& branchings() const { return branchings_; }
   const std::vector<Nucleation>& nucleations() const { return nucleations_; }
   long splits() const { return splits_; }
+  double join() const { return join_; }
+  double separation() const { return separation_; }
   long absorbed() const { return absorbed_; }  ///< splits that moved no tip
   int pending_branches() const { return static_cast<int>(pending_.size()); }
 
@@ -119,6 +141,9 @@ class CrackFronts {
   int leading() const;
   /// Current position of a tip: its last sample, or its start.
   TipSample head(int tip) const;
+  /// Direction [deg from +x] in which a tip left its start: of the chord from the start to its
+  /// first sample at least `distance` away (NaN if it never got that far).
+  double departure_angle_deg(int tip, double distance) const;
 
  private:
   struct Point {

@@ -1,13 +1,6 @@
 // VTU/PVD time series, energy CSV and run summary (SPEC 9).
 #include "output.hpp"
 
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <iomanip>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -18,6 +11,13 @@
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLUtilities.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "error.hpp"
 
@@ -79,7 +79,8 @@ vtkSmartPointer<vtkPolyData> link_lines(const Simulation& sim) {
     data->GetCellData()->AddArray(arrays.back());
   }
   for (const CohesiveLink& l : links) {
-    const vtkIdType ids[2] = {points->InsertNextPoint(x + 3 * l.a), points->InsertNextPoint(x + 3 * l.b)};
+    const vtkIdType ids[2] = {points->InsertNextPoint(x + 3 * l.a),
+                              points->InsertNextPoint(x + 3 * l.b)};
     lines->InsertNextCell(2, ids);
     const double values[] = {l.f, l.f0, l.delta, l.delta_max, l.delta_c, l.omega, l.A_c};
     for (std::size_t i = 0; i < arrays.size(); ++i) arrays[i]->InsertNextValue(values[i]);
@@ -120,9 +121,9 @@ std::vector<PvdEntry> read_pvd(const std::string& path) {
   BRITTLE_CHECK(fs::is_regular_file(path), "time series '", path, "': no such file");
   vtkSmartPointer<vtkXMLDataElement> root;
   root.TakeReference(vtkXMLUtilities::ReadElementFromFile(path.c_str()));
-  BRITTLE_CHECK(root && root->GetAttribute("type") &&
-                    std::string(root->GetAttribute("type")) == "Collection",
-                "time series '", path, "': not a VTK .pvd collection");
+  BRITTLE_CHECK(
+      root && root->GetAttribute("type") && std::string(root->GetAttribute("type")) == "Collection",
+      "time series '", path, "': not a VTK .pvd collection");
   vtkXMLDataElement* collection = root->FindNestedElementWithName("Collection");
   BRITTLE_CHECK(collection, "time series '", path, "': no <Collection> element");
   const fs::path base = fs::path(path).parent_path();
@@ -168,7 +169,9 @@ void CrackTipCsvWriter::on_finish(const Simulation& sim, const RunSummary&) {
 
 namespace {
 /// JSON has no NaN or infinity: a number that is not finite is written as null.
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 }  // namespace
 
 std::string summary_json(const Simulation& sim, const RunSummary& s) {
@@ -213,6 +216,41 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["speed_stop_x"] = number(s.speed_stop_x);
   j["W"] = number(s.W);
   j["zhou_speed"] = number(s.zhou_speed);
+  // Every crack tip, branching and nucleation (docs/crack_fronts.md); positions reference.
+  const CrackFronts& fronts = sim.fronts();
+  j["tips"] = nlohmann::ordered_json::array();
+  for (const TipTrack& t : fronts.tips()) {
+    const TipSample head = fronts.head(t.id);
+    const SpeedFit v = fronts.speed(t.id);
+    nlohmann::ordered_json tip;
+    tip["id"] = t.id;
+    tip["origin"] = t.origin == TipTrack::Origin::seed         ? "notch"
+                    : t.origin == TipTrack::Origin::nucleation ? "nucleation"
+                                                               : "branch";
+    tip["parent"] = t.parent;
+    tip["start"] = {number(t.t_start), number(t.x_start), number(t.y_start)};
+    tip["start_angle_deg"] = number(t.start_angle_deg);
+    tip["departure_angle_deg"] = number(fronts.departure_angle_deg(t.id, fronts.separation()));
+    tip["head"] = {number(head.t), number(head.x), number(head.y)};
+    tip["length"] = number(t.arc.empty() ? 0.0 : t.arc.back());
+    tip["speed"] = number(v.speed);
+    tip["speed_samples"] = v.samples;
+    tip["active"] = t.active;
+    j["tips"].push_back(tip);
+  }
+  j["leading_tip"] = fronts.leading();
+  j["branchings"] = nlohmann::ordered_json::array();
+  for (const BranchingEvent& b : fronts.branchings())
+    j["branchings"].push_back({{"t", number(b.t)},
+                               {"x", number(b.x)},
+                               {"y", number(b.y)},
+                               {"angle_deg", number(b.angle_deg)},
+                               {"parent", b.parent},
+                               {"children", {b.child_a, b.child_b}}});
+  j["nucleations"] = nlohmann::ordered_json::array();
+  for (const Nucleation& n : fronts.nucleations())
+    j["nucleations"].push_back(
+        {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
   return j.dump(2) + "\n";
 }
 

@@ -2,21 +2,7 @@
 // .msh / .vtu tetrahedral meshes, and the locality-preserving numbering every mesh comes in.
 #include "plate_mesh.hpp"
 
-#include <algorithm>
-#include <array>
-#include <cctype>
-#include <cmath>
-#include <cstdint>
-#include <filesystem>
-#include <mutex>
-#include <stdexcept>
-#include <numeric>
-#include <string>
-#include <unordered_map>
-#include <vector>
-
 #include <gmsh.h>
-
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -30,6 +16,20 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "boundary.hpp"
 #include "error.hpp"
 
 namespace brittle {
@@ -103,6 +103,8 @@ struct TetSoup {
   std::vector<double> xyz;
   std::vector<Tet> tets;
   std::vector<long long> source_ids;
+  /// Named physical groups of a .msh file: name and, per point of xyz, 1 if in the group.
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> groups;
 };
 
 /// Swaps two nodes of every inverted tet; throws for a zero-volume one (|V0| <= 1e-12 l^3,
@@ -141,6 +143,16 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const TetSoup& soup) {
 
   vtkNew<vtkIdTypeArray> offsets;
   offsets->SetNumberOfValues(static_cast<vtkIdType>(soup.tets.size()) + 1);
+  std::vector<vtkSmartPointer<vtkUnsignedCharArray>> groups;
+  for (const auto& [name, in] : soup.groups) {  // point data, so renumbering carries them along
+    auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    a->SetName(group_array_name(name).c_str());
+    a->SetNumberOfTuples(n_used);
+    a->Fill(0);
+    for (vtkIdType p = 0; p < n_in; ++p)
+      if (new_id[p] >= 0 && in[p]) a->SetValue(new_id[p], 1);
+    groups.push_back(a);
+  }
   for (vtkIdType c = 0; c < offsets->GetNumberOfValues(); ++c) offsets->SetValue(c, 4 * c);
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
@@ -148,6 +160,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const TetSoup& soup) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->SetPoints(points);
   grid->SetCells(VTK_TETRA, cells);
+  for (const auto& a : groups) grid->GetPointData()->AddArray(a);
   renumber_for_locality(*grid);
   return grid;
 }
@@ -221,7 +234,34 @@ TetSoup read_msh(const std::string& path) {
   GmshSession session("import");
   try {
     gmsh::open(path);
-    return gmsh_tets();
+    TetSoup soup = gmsh_tets();
+    // Named physical groups (any dimension) as node masks, for [boundary.NAME] group = ...
+    std::unordered_map<std::size_t, vtkIdType> index;
+    {
+      std::vector<std::size_t> tags;
+      std::vector<double> xyz, parametric;
+      gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
+      for (std::size_t i = 0; i < tags.size(); ++i)
+        index.emplace(tags[i], static_cast<vtkIdType>(i));
+    }
+    gmsh::vectorpair physical;
+    gmsh::model::getPhysicalGroups(physical);
+    for (const auto& [dim, tag] : physical) {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty()) continue;
+      std::vector<std::size_t> tags;
+      std::vector<double> coordinates;
+      gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, tags, coordinates);
+      auto it = std::find_if(soup.groups.begin(), soup.groups.end(),
+                             [&](const auto& g) { return g.first == name; });
+      if (it == soup.groups.end())
+        it = soup.groups.insert(soup.groups.end(),
+                                {name, std::vector<std::uint8_t>(soup.xyz.size() / 3, 0)});
+      for (std::size_t t : tags)
+        if (auto n = index.find(t); n != index.end()) it->second[n->second] = 1;
+    }
+    return soup;
   } catch (...) {  // keep Gmsh's reason, on one line
     std::string reason = gmsh_last_error();
     std::replace(reason.begin(), reason.end(), '\n', ' ');
@@ -242,7 +282,8 @@ TetSoup read_vtu(const std::string& path) {
   vtkNew<ErrorCatcher> catcher;
   reader->AddObserver(vtkCommand::ErrorEvent, catcher);
   reader->AddObserver(vtkCommand::WarningEvent, catcher);
-  if (!reader->CanReadFile(path.c_str())) throw std::runtime_error("not a VTK XML unstructured grid");
+  if (!reader->CanReadFile(path.c_str()))
+    throw std::runtime_error("not a VTK XML unstructured grid");
   reader->SetFileName(path.c_str());
   reader->Update();
   vtkUnstructuredGrid* in = reader->GetOutput();
@@ -314,10 +355,88 @@ void permute_arrays(vtkFieldData* data, const std::vector<vtkIdType>& old_of_new
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+
+/// The size field of the plate: band_size inside |y| < band, growing to size over a
+/// transition of width `band` (Gmsh Box field as background mesh).
+void set_band_size(const GeometryParams& g, const MeshParams& m) {
+  const double inner = m.band > 0 && m.band_size > 0 ? m.band_size : m.size;
+  const int box = gmsh::model::mesh::field::add("Box");
+  gmsh::model::mesh::field::setNumber(box, "VIn", inner);
+  gmsh::model::mesh::field::setNumber(box, "VOut", m.size);
+  gmsh::model::mesh::field::setNumber(box, "XMin", -g.L);
+  gmsh::model::mesh::field::setNumber(box, "XMax", 2 * g.L);
+  gmsh::model::mesh::field::setNumber(box, "YMin", -m.band);
+  gmsh::model::mesh::field::setNumber(box, "YMax", m.band);
+  gmsh::model::mesh::field::setNumber(box, "ZMin", -g.T);
+  gmsh::model::mesh::field::setNumber(box, "ZMax", 2 * g.T);
+  gmsh::model::mesh::field::setNumber(box, "Thickness", m.band);
+  gmsh::model::mesh::field::setAsBackgroundMesh(box);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+}
+
+/// The plate with [notch.NAME] cuts (OpenCASCADE kernel): the rectangle minus one polygon per
+/// notch, extruded through the thickness in `layers` layers of tets. A notch whose mouth lies
+/// on the outline is extended outwards by its opening so that the cut crosses the edge cleanly.
+void build_notched_plate(const GeometryParams& g, const MeshParams& m) {
+  namespace occ = gmsh::model::occ;
+  const double h2 = g.H / 2, tol = 1e-9 * std::hypot(g.L, g.H);
+  const int plate = occ::addRectangle(0, -h2, 0, g.L, g.H);
+  gmsh::vectorpair tools;
+  for (const NotchParams& n : g.notches) {
+    const std::string where = "[notch." + n.name + "]";
+    const double dx = n.direction[0], dy = n.direction[1], px = -dy, py = dx;  // px, py: normal
+    const double sx = n.start[0], sy = n.start[1];
+    const double tx = sx + n.length * dx, ty = sy + n.length * dy;
+    const auto inside = [&](double x, double y, double margin) {
+      return x > margin && x < g.L - margin && y > -h2 + margin && y < h2 - margin;
+    };
+    BRITTLE_CHECK(sx >= -tol && sx <= g.L + tol && sy >= -h2 - tol && sy <= h2 + tol, where,
+                  ": start (", sx, ", ", sy, ") is outside the plate [0, ", g.L, "] x [", -h2, ", ",
+                  h2, "]");
+    BRITTLE_CHECK(inside(tx, ty, 0.0), where, ": the tip (", tx, ", ", ty,
+                  ") is not inside the plate (expected start + length * direction inside)");
+    BRITTLE_CHECK(n.opening < std::min(g.L, g.H), where, ": opening ", n.opening,
+                  " is not smaller than the plate");
+    const bool on_edge = !inside(sx, sy, tol);
+    const double back = on_edge ? n.opening : 0.0;  // outward extension of the mouth
+    const double o2 = n.opening / 2;
+    std::vector<std::array<double, 2>> polygon = {
+        {sx - back * dx + o2 * px, sy - back * dy + o2 * py}, {sx + o2 * px, sy + o2 * py}};
+    if (n.shape == NotchParams::Shape::wedge) {
+      polygon.push_back({tx, ty});
+    } else {
+      polygon.push_back({tx + o2 * px, ty + o2 * py});
+      polygon.push_back({tx - o2 * px, ty - o2 * py});
+    }
+    polygon.push_back({sx - o2 * px, sy - o2 * py});
+    polygon.push_back({sx - back * dx - o2 * px, sy - back * dy - o2 * py});
+    if (!on_edge) polygon.erase(polygon.begin()), polygon.pop_back();  // interior: no extension
+    std::vector<int> points, lines;
+    for (const auto& p : polygon) points.push_back(occ::addPoint(p[0], p[1], 0));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      lines.push_back(occ::addLine(points[i], points[(i + 1) % points.size()]));
+    tools.push_back({2, occ::addPlaneSurface({occ::addCurveLoop(lines)})});
+  }
+  gmsh::vectorpair cut, extruded;
+  std::vector<gmsh::vectorpair> map;
+  occ::cut({{2, plate}}, tools, cut, map);
+  BRITTLE_CHECK(cut.size() == 1, "plate with notches: the notches cut the plate into ", cut.size(),
+                " pieces (expected one body)");
+  occ::extrude(cut, 0, 0, g.T, extruded, {m.layers}, {}, false);
+  occ::synchronize();
+  set_band_size(g, m);
+  gmsh::model::mesh::generate(3);
+}
+
+}  // namespace
+
 vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g,
                                                          const MeshParams& m) {
-  BRITTLE_CHECK(g.L > 0 && g.H > 0 && g.T > 0, "plate: L, H, T must be > 0 (got ", g.L, ", ",
-                g.H, ", ", g.T, ")");
+  BRITTLE_CHECK(g.L > 0 && g.H > 0 && g.T > 0, "plate: L, H, T must be > 0 (got ", g.L, ", ", g.H,
+                ", ", g.T, ")");
   BRITTLE_CHECK(g.notch_depth >= 0 && g.notch_depth < g.L, "plate: notch depth ", g.notch_depth,
                 " must be in [0, L)");
   BRITTLE_CHECK(g.notch_depth == 0 || (g.notch_base > 0 && g.notch_base < g.H),
@@ -326,6 +445,7 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
   BRITTLE_CHECK(m.layers >= 1, "mesh.layers ", m.layers, " must be >= 1");
   BRITTLE_CHECK(m.band >= 0 && m.band_size >= 0, "mesh.band and mesh.band_size must be >= 0");
 
+  if (!g.notches.empty()) return with_gmsh("plate mesh", [&] { build_notched_plate(g, m); });
   return with_gmsh("plate mesh", [&] {
     namespace geo = gmsh::model::geo;
     const double L = g.L, h2 = g.H / 2, a = g.notch_depth, b2 = g.notch_base / 2;
@@ -334,10 +454,9 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
     const int p_crack_end = geo::addPoint(L, 0, 0);
     const int p_upper_right = geo::addPoint(L, h2, 0);
     const int p_upper_left = geo::addPoint(0, h2, 0);
-    std::vector<int> outline = {geo::addLine(p_lower_left, p_lower_right),
-                                geo::addLine(p_lower_right, p_crack_end),
-                                geo::addLine(p_crack_end, p_upper_right),
-                                geo::addLine(p_upper_right, p_upper_left)};
+    std::vector<int> outline = {
+        geo::addLine(p_lower_left, p_lower_right), geo::addLine(p_lower_right, p_crack_end),
+        geo::addLine(p_crack_end, p_upper_right), geo::addLine(p_upper_right, p_upper_left)};
     int p_crack_start = 0;
     if (a > 0) {  // wedge notch: mouth (0, +-b/2), tip (a, 0)
       const int p_mouth_upper = geo::addPoint(0, b2, 0);
@@ -357,22 +476,7 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
     geo::synchronize();
     gmsh::model::mesh::embed(1, {crack_line}, 2, surface);
 
-    // Size: band_size inside |y| < band, growing to size over a transition of width `band`.
-    const double inner = m.band > 0 && m.band_size > 0 ? m.band_size : m.size;
-    const int box = gmsh::model::mesh::field::add("Box");
-    gmsh::model::mesh::field::setNumber(box, "VIn", inner);
-    gmsh::model::mesh::field::setNumber(box, "VOut", m.size);
-    gmsh::model::mesh::field::setNumber(box, "XMin", -L);
-    gmsh::model::mesh::field::setNumber(box, "XMax", 2 * L);
-    gmsh::model::mesh::field::setNumber(box, "YMin", -m.band);
-    gmsh::model::mesh::field::setNumber(box, "YMax", m.band);
-    gmsh::model::mesh::field::setNumber(box, "ZMin", -g.T);
-    gmsh::model::mesh::field::setNumber(box, "ZMax", 2 * g.T);
-    gmsh::model::mesh::field::setNumber(box, "Thickness", m.band);
-    gmsh::model::mesh::field::setAsBackgroundMesh(box);
-    gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+    set_band_size(g, m);
 
     extrude_and_mesh(g.T, m.layers);
   });
@@ -381,7 +485,9 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
 vtkSmartPointer<vtkUnstructuredGrid> generate_box_mesh(double lx, double ly, double lz, double h) {
   BRITTLE_CHECK(lx > 0 && ly > 0 && lz > 0 && h > 0, "box mesh: lx, ly, lz, h must be > 0 (got ",
                 lx, ", ", ly, ", ", lz, ", ", h, ")");
-  const auto divisions = [h](double l) { return std::max(1, static_cast<int>(std::lround(l / h))); };
+  const auto divisions = [h](double l) {
+    return std::max(1, static_cast<int>(std::lround(l / h)));
+  };
   return with_gmsh("box mesh", [&] {
     namespace geo = gmsh::model::geo;
     // Structured: nx x ny rectangles, each split into two triangles with alternating
@@ -404,8 +510,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_mesh(const std::string& path) {
   const std::string where = "mesh file '" + path + "'";
   const std::string expected = " (expected a Gmsh .msh or VTK .vtu file holding tetrahedra)";
   const std::string ext = lower_extension(path);
-  BRITTLE_CHECK(ext == ".msh" || ext == ".vtu", where, ": unknown extension '", ext, "'",
-                expected);
+  BRITTLE_CHECK(ext == ".msh" || ext == ".vtu", where, ": unknown extension '", ext, "'", expected);
   std::error_code ec;
   BRITTLE_CHECK(std::filesystem::exists(path, ec), where, ": no such file", expected);
   BRITTLE_CHECK(std::filesystem::is_regular_file(path, ec), where, ": not a regular file",

@@ -15,6 +15,33 @@
 
 namespace brittle {
 namespace {
+
+/// The typical element size: the median over elements of the edge of a regular tet of the
+/// element's volume (a band mesh has most of its elements in the band, where cracks run).
+double typical_element_size(const ElementData& el) {
+  std::vector<double> h(el.V0.begin(), el.V0.end());
+  if (h.empty()) return 0;
+  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+  return std::cbrt(6.0 * std::sqrt(2.0) * h[h.size() / 2]);
+}
+
+/// Crack fronts seeded at the notch tips: join = 4 h, separation = 8 h (docs/crack_fronts.md:
+/// on CM, splits along a running crack skip nodes, and 2.5 h took the main crack for a chain
+/// of nucleations).
+CrackFronts make_fronts(const Scene& scene, const ElementData& el) {
+  const double h = typical_element_size(el);
+  CrackFronts f(4.0 * h, 8.0 * h);
+  const GeometryParams& g = scene.geometry;
+  if (g.notches.empty()) {
+    f.add_seed(g.notch_depth, 0.0, 1.0, 0.0);
+  } else {
+    for (const NotchParams& n : g.notches)
+      f.add_seed(n.start[0] + n.length * n.direction[0], n.start[1] + n.length * n.direction[1],
+                 n.direction[0], n.direction[1]);
+  }
+  return f;
+}
+
 /// Steps between two checks of the stable step (one pass over the elements, about 1/20 of a
 /// step's cost; docs/model.md).
 constexpr long kTimeStepCheckInterval = 20;
@@ -39,7 +66,8 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       fracture_(scene, grid_, links_),
       damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
       boundary_(scene, grid_, reference_mesh),
-      integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_) {
+      integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_),
+      fronts_(make_fronts(scene, elements_)) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
   lump_masses(grid_, elements_, constants_.rho0);
@@ -80,6 +108,8 @@ void Simulation::step() {
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
+  for (const SplitRecord& split : r.splits)
+    fronts_.on_split(time_, grid_.X()[3 * split.a], grid_.X()[3 * split.a + 1]);
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
 }
@@ -207,9 +237,17 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         for (Observer* o : observers) o->on_warning(*this, summary.warnings.back());
       }
       for (Observer* o : observers) o->on_energy(*this, e);
-      const bool split = fracture_.splits() > 0;
-      tip_samples_.push_back({time_, split ? fracture_.tip_x() : scene_.geometry.notch_depth,
-                              split ? fracture_.tip_y() : 0.0, fracture_.splits()});
+      if (scene_.geometry.notches.empty()) {  // the paper's plate: largest x (SPEC 5)
+        const bool split = fracture_.splits() > 0;
+        const double x = split ? fracture_.tip_x() : scene_.geometry.notch_depth;
+        tip_samples_.push_back({time_, x, split ? fracture_.tip_y() : 0.0, fracture_.splits(), x});
+      } else {  // the leading tip; s = its crack length from the notch tip
+        const int lead = fronts_.leading();
+        const TipTrack& t = fronts_.tips()[lead];
+        const TipSample head = fronts_.head(lead);
+        tip_samples_.push_back({time_, head.x, head.y, fracture_.splits(),
+                                t.length_at_start + (t.arc.empty() ? 0.0 : t.arc.back())});
+      }
       while (due(next_energy)) next_energy += energy_interval;
     }
     if (next_frame < frames.size() && due(frames[next_frame])) {
@@ -256,8 +294,17 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   if (!tip_samples_.empty())
     summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
   summary.speed_stop_x = scene_.geometry.L - scene_.fracture.speed_edge_margin;
-  summary.crack_speed =
-      steady_speed(tip_samples_, scene_.fracture.speed_window_start, summary.speed_stop_x);
+  if (scene_.geometry.notches.empty()) {
+    summary.crack_speed =
+        steady_speed(tip_samples_, scene_.fracture.speed_window_start, summary.speed_stop_x);
+  } else {  // the window ends when the leading tip comes within the margin of the outline
+    const GeometryParams& g = scene_.geometry;
+    const double margin = scene_.fracture.speed_edge_margin;
+    summary.crack_speed = steady_speed_until(
+        tip_samples_, scene_.fracture.speed_window_start, [&](const TipSample& p) {
+          return std::min({p.x, g.L - p.x, p.y + 0.5 * g.H, 0.5 * g.H - p.y}) <= margin;
+        });
+  }
   summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
   summary.zhou_speed = zhou_speed(summary.W);
   for (Observer* o : observers) o->on_finish(*this, summary);

@@ -120,8 +120,12 @@ class Simulation {
   const StepReport& last_step() const { return last_step_; }
   /// Warnings raised while stepping (dt reduced, sub-step cap) not yet handed to observers.
   std::vector<std::string> take_step_warnings() { return std::exchange(step_warnings_, {}); }
-  /// Crack tip samples, one per energy interval (tip = notch tip before the first split).
+  /// Crack tip samples, one per energy interval (tip = notch tip before the first split): on
+  /// the paper's plate the split node of largest x (SPEC 5), with [notch.NAME] sections the
+  /// head of the leading tip of fronts().
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
+  /// Every crack tip, branching and nucleation so far (docs/crack_fronts.md).
+  const CrackFronts& fronts() const { return fronts_; }
 
   /// Kinetic, elastic and dissipated energies now (sums over fixed blocks: deterministic).
   Energies energies() const;
@@ -151,6 +155,7 @@ class Simulation {
   Integrator integrator_;
   StepReport last_step_;
   std::vector<TipSample> tip_samples_;
+  CrackFronts fronts_;
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   double viscous_dissipated_ = 0, damage_dissipated_ = 0;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <string>
 
@@ -249,4 +250,76 @@ TEST(Boundary, TimeHistories) {
   EXPECT_DOUBLE_EQ(h.at(1.5e-6), 2.0);
   EXPECT_DOUBLE_EQ(h.at(2.5e-6), 3.0);
   EXPECT_EQ(h.at(9e-6), 2.0);
+}
+
+TEST(Boundary, PhysicalGroupsOfAMshFileAreRegions) {
+  // A unit cube in six tets around the diagonal 0-7; "top" = the face z = 1 (two triangles),
+  // "mid" = the interior triangle (0, 1, 7), "body" = the volume.
+  const std::string path = ::testing::TempDir() + "brittle_groups.msh";
+  {
+    std::ofstream msh(path);
+    msh << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+           "$PhysicalNames\n3\n2 1 \"top\"\n2 2 \"mid\"\n3 3 \"body\"\n$EndPhysicalNames\n"
+           "$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 1 1 0\n5 0 0 1\n6 1 0 1\n7 0 1 1\n8 1 1 1\n"
+           "$EndNodes\n$Elements\n9\n"
+           "1 2 2 1 1 5 6 8\n2 2 2 1 1 5 7 8\n3 2 2 2 2 1 2 8\n"
+           "4 4 2 3 3 1 2 4 8\n5 4 2 3 3 1 2 6 8\n6 4 2 3 3 1 3 4 8\n"
+           "7 4 2 3 3 1 3 7 8\n8 4 2 3 3 1 5 6 8\n9 4 2 3 3 1 5 7 8\n$EndElements\n";
+  }
+  auto mesh = read_mesh(path);
+  EXPECT_EQ(select_nodes({{}, "top"}, *mesh, "t").size(), 4u);
+  const std::vector<BoundaryFace> top = select_boundary_faces({{}, "top"}, *mesh, "t");
+  ASSERT_EQ(top.size(), 2u);
+  EXPECT_NEAR(top[0].area + top[1].area, 1.0, 1e-14);
+  EXPECT_NEAR(top[0].normal[2], 1.0, 1e-14);
+  for (const char* interior : {"mid", "body"}) {
+    try {
+      select_boundary_faces({{}, interior}, *mesh, "[boundary.b]");
+      ADD_FAILURE() << interior << " was accepted for a traction";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("interior face"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Boundary, NotchedPlateHasTheNotches) {
+  // Two slots from the left edge and a wedge from the top edge: no node inside any of them.
+  GeometryParams g;
+  g.L = 20e-3, g.H = 10e-3, g.T = 1e-3;
+  NotchParams a;
+  a.name = "a", a.start[0] = 0, a.start[1] = 2.5e-3, a.length = 8e-3, a.opening = 0.4e-3;
+  a.shape = NotchParams::Shape::slot;
+  NotchParams b = a;
+  b.name = "b", b.start[1] = -2.5e-3;
+  NotchParams c;
+  c.name = "c", c.start[0] = 15e-3, c.start[1] = 5e-3, c.direction[0] = 0, c.direction[1] = -1;
+  c.length = 3e-3, c.opening = 1e-3;
+  g.notches = {a, b, c};
+  MeshParams m;
+  m.size = 0.5e-3;
+  auto mesh = generate_plate_mesh(g, m);
+  double bounds[6];
+  mesh->GetBounds(bounds);
+  EXPECT_NEAR(bounds[1], g.L, 1e-12);
+  EXPECT_NEAR(bounds[3] - bounds[2], g.H, 1e-12);
+  int inside = 0, near_tip = 0;
+  for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p) {
+    double X[3];
+    mesh->GetPoint(p, X);
+    for (double y0 : {2.5e-3, -2.5e-3})
+      if (X[0] < 8e-3 - 1e-9 && std::abs(X[1] - y0) < 0.2e-3 - 1e-9) ++inside;
+    // wedge c: width 1 mm at y = 5 mm closing to the tip at (15, 2) mm
+    const double half = 0.5e-3 * (X[1] - 2e-3) / 3e-3;
+    if (X[1] > 2e-3 + 1e-9 && std::abs(X[0] - 15e-3) < half - 1e-9) ++inside;
+    if (std::hypot(X[0] - 8e-3, X[1] - 2.5e-3 - 0.2e-3) < 1e-9) ++near_tip;  // slot corner
+  }
+  EXPECT_EQ(inside, 0);
+  EXPECT_GT(near_tip, 0);
+  g.notches[2].length = 20e-3;  // through the plate: refused
+  try {
+    generate_plate_mesh(g, m);
+    ADD_FAILURE() << "a notch leaving the plate was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("[notch.c]: the tip"), std::string::npos) << e.what();
+  }
 }
