@@ -799,3 +799,33 @@ TEST(SceneDocs, EveryKeyIsDocumented) {
 }
 
 }  // namespace
+
+namespace {
+TEST(RunErrors, BadRegionsExitTwoWithOneLine) {
+  TempDir dir;
+  const std::string base = dir.write(
+      "bar.ini",
+      "[initial]\nstate = rest\n[geometry]\nL = 4e-3\nH = 2e-3\nT = 0.5e-3\nnotch_depth = 0\n"
+      "[mesh]\nsize = 1e-3\n[run]\nend_time = 1e-7\n[output]\nvtu = false\nframe_interval = 0\n");
+  // A box beside the plate selects nothing.
+  const std::string empty = dir.write(
+      "empty.ini", "[boundary.pull]\ntype = traction\nbox = 1, 2, -inf, inf, -inf, inf\n"
+                   "traction = 1e6, 0, 0\n");
+  Result r = run_brittle(dir, {"run", base, empty, "--out", (dir / "o1").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("[boundary.pull]: the region (box 1, 2, -inf, inf, -inf, inf)"),
+            std::string::npos)
+      << r.err;
+  // A box through the body holds the faces between its tets: interior.
+  const std::string interior = dir.write(
+      "interior.ini", "[boundary.pull]\ntype = traction\nbox = 1e-3, 3e-3, -inf, inf, -inf, inf\n"
+                      "traction = 1e6, 0, 0\n");
+  r = run_brittle(dir, {"run", base, interior, "--out", (dir / "o2").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("interior face(s); a traction acts on boundary faces only"),
+            std::string::npos)
+      << r.err;
+}
+}  // namespace
