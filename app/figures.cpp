@@ -149,7 +149,7 @@ int chart_command(const std::vector<std::string>& args) {
 int tips_command(const std::vector<std::string>& args) {
   std::vector<std::string> runs;
   std::string out, title = "Speed of the leading crack tip";
-  double rayleigh = 0;
+  double rayleigh = 0, window = 1e-6;
   po::options_description opts("brittle tips options");
   opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(),
                                                  "PNG to write")(
@@ -159,7 +159,8 @@ int tips_command(const std::vector<std::string>& args) {
   auto vm = parse_command_line(args, opts, "run");
   if (vm.count("help")) {
     std::ostringstream text;
-    text << "usage: brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V]\n"
+    text << "usage: brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V] "
+            "[--window S]\n"
          << opts;
     std::printf("%s", text.str().c_str());
     return 0;
@@ -192,8 +193,19 @@ int tips_command(const std::vector<std::string>& args) {
       BRITTLE_CHECK(t && v, "brittle tips: '", csv, "', line ", row,
                     ": expected time,tip_x,tip_y,splits,speed");
       s.x.push_back(*t * 1e6), s.y.push_back(*v);
-      t_max = std::max(t_max, *t * 1e6), v_max = std::max(v_max, *v);
+      t_max = std::max(t_max, *t * 1e6);
     }
+    // Moving average over |t - t_i| <= window: the leading tip advances in bursts of splits.
+    std::vector<double> smooth(s.y.size());
+    for (std::size_t k = 0, lo = 0, hi = 0; k < s.y.size(); ++k) {
+      while (s.x[lo] < s.x[k] - window * 1e6) ++lo;
+      while (hi < s.x.size() && s.x[hi] <= s.x[k] + window * 1e6) ++hi;
+      double sum = 0;
+      for (std::size_t m = lo; m < hi; ++m) sum += s.y[m];
+      smooth[k] = sum / static_cast<double>(hi - lo);
+      v_max = std::max(v_max, smooth[k]);
+    }
+    s.y = std::move(smooth);
     lines.push_back(std::move(s));
   }
   if (rayleigh > 0)
@@ -208,7 +220,7 @@ int tips_command(const std::vector<std::string>& args) {
   axes.x_title = "t  [us]";
   axes.y_title = "tip speed  [m/s]";
   axes.x_min = 0, axes.x_max = t_max > 0 ? t_max : 1, axes.y_min = 0;
-  axes.y_max = v_max > 0 ? 1.1 * v_max : 1;
+  axes.y_max = rayleigh > 0 ? std::min(1.6 * rayleigh, 1.1 * v_max) : v_max > 0 ? 1.1 * v_max : 1;
   render::write_chart_png(out, axes, lines);
   std::printf("wrote %s\n", out.c_str());
   return 0;
