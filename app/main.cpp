@@ -42,6 +42,7 @@ const char* kUsage =
 /// Progress on stderr (steps, simulated time, ETA), only when stderr is a terminal.
 class Progress : public brittle::Observer {
  public:
+  explicit Progress(bool profile) : profile_(profile) {}
   void on_start(const brittle::Simulation& sim) override {
     start_ = last_ = std::chrono::steady_clock::now();
     std::fprintf(stderr, "brittle: %lld nodes, %lld tets, dt = %.4g s, %ld steps to %.4g s\n",
@@ -71,6 +72,14 @@ class Progress : public brittle::Observer {
     if (tty_) std::fputc('\n', stderr);
     std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n", s.status.c_str(),
                  s.steps, s.wall_seconds, s.tet_updates_per_second);
+    if (profile_) {  // shares of the stepping time; output is outside it
+      const double total = s.phases.stepping();
+      std::fprintf(stderr, "brittle: phases (s, share of stepping):");
+      for (const auto& [name, seconds] : s.phases.named())
+        std::fprintf(stderr, "%s %s %.3f (%.1f%%)", name == std::string("kick_drift") ? "" : ",",
+                     name, seconds, total > 0 ? 100 * seconds / total : 0.0);
+      std::fputc('\n', stderr);
+    }
     if (s.splits == 0) return;
     const auto& fronts = sim.fronts();
     if (sim.scene().initial.state == brittle::InitialParams::State::prestress)
@@ -88,6 +97,7 @@ class Progress : public brittle::Observer {
   }
 
  private:
+  bool profile_;
   bool tty_ = isatty(STDERR_FILENO);
   std::chrono::steady_clock::time_point start_, last_;
 };
@@ -99,6 +109,7 @@ int run_command(const std::vector<std::string>& args) {
   opts.add_options()("help,h", "list every scene key with its default, unit and meaning")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out), "output directory (overrides output.directory)")(
+      "profile", "print the wall time of each phase of the step (also in summary.json)")(
       "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
   auto vm = brittle::parse_command_line(args, opts, "scene");
   po::notify(vm);
@@ -112,7 +123,7 @@ int run_command(const std::vector<std::string>& args) {
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
-  Progress progress;
+  Progress progress(vm.count("profile") > 0);
   const brittle::RunSummary summary = brittle::run_scene(scene, {&progress});
   std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";
   return 0;

@@ -82,15 +82,91 @@ void lump_masses(Grid& grid, const ElementData& elements, double rho0) {
     for (int k = 0; k < 4; ++k) mass[cells[4 * e + k]] += 0.25 * rho0 * elements.V0[e];
 }
 
-ForceAssembler::ForceAssembler(const Grid& grid, const ElasticConstants& c)
+ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
+                                       const ElasticConstants& c, vtkIdType e,
+                                       const double* P_v_old) {
+  ElementUpdate u;
+  const vtkIdType* n = grid.cells() + 4 * e;
+  const Mat3 Ds = edge_matrix(grid.x(), n);
+  const Mat3 Vs = edge_matrix(grid.v(), n);
+  const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
+  double det_Ds, inv_det_Ds;
+  // G = Ds^-1 = Dm^-1 F^-1: its rows are the current gradients of N1..N3.
+  const Mat3 G = inverse_with_det(Ds, det_Ds, inv_det_Ds);
+  const double vol = det_Ds * (1.0 / 6.0);
+  const double J = vol * el.inv_V0[e];  // det F = det Ds / det Dm
+  if (!(J > 0.0)) return u;             // inverted, degenerate or NaN
+  u.ok = true;
+  const Mat3 F = Ds * Dm_inv;
+  const Mat3 T_el = elastic_stress(F, J, 6.0 * el.V0[e] * inv_det_Ds, c.K, c.mu,
+                                   grid.damage()[e]);  // (B.4)
+  const Mat3 L = Vs * G;                               // velocity gradient
+  const Mat3 D = 0.5 * (L + L.transpose());
+  const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
+  // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3).
+  const Mat3 P_v = vol * T_v * G.transpose();
+  const Mat3 f = -vol * T_el * G.transpose() - P_v;
+  const Vec3 f0 = -f.rowwise().sum();
+  for (int k = 0; k < 3; ++k) {
+    u.force[k] = f0[k];
+    for (int j = 0; j < 3; ++j) u.force[3 * (j + 1) + k] = f(k, j);
+  }
+  double old_work = 0, new_work = 0;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      old_work += P_v_old[3 * j + i] * Vs(i, j);
+      new_work += P_v(i, j) * Vs(i, j);
+      u.P_v[3 * j + i] = P_v(i, j);
+    }
+  u.viscous_power = 0.5 * (old_work + new_work);
+  u.volume = vol;
+  u.sigma1_bound =
+      (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs())).maxCoeff();
+  const double s[6] = {T_el(0, 0), T_el(1, 1), T_el(2, 2), T_el(0, 1), T_el(1, 2), T_el(0, 2)};
+  std::copy(s, s + 6, u.stress);
+  return u;
+}
+
+ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const ElasticConstants& c)
     : K_(c.K),
       mu_(c.mu),
-      element_force_(12 * grid.num_cells(), 0.0),
-      viscous_power_(grid.num_cells(), 0.0),
-      viscous_force_(9 * grid.num_cells(), 0.0),
-      volume_(grid.num_cells(), 0.0),
-      sigma1_bound_(grid.num_cells(), 0.0) {
+      blocks_((grid.num_cells() + kLanes - 1) / kLanes),
+      element_force_(12 * kLanes * blocks_.size(), 0.0),
+      viscous_power_(kLanes * blocks_.size(), 0.0),
+      block_power_(blocks_.size(), 0.0),
+      volume_(kLanes * blocks_.size(), 0.0),
+      sigma1_bound_(kLanes * blocks_.size(), 0.0) {
+  const vtkIdType ne = grid.num_cells();
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    Block& B = blocks_[b];
+    for (int l = 0; l < kLanes; ++l) {
+      const vtkIdType i = static_cast<vtkIdType>(b) * kLanes + l;
+      const vtkIdType e = i < ne ? i : static_cast<vtkIdType>(b) * kLanes;  // padding: lane 0
+      for (int k = 0; k < 9; ++k) B.Dm_inv[k][l] = el.Dm_inv[9 * e + k];
+      B.V0[l] = el.V0[e];
+      B.inv_V0[l] = el.inv_V0[e];
+      B.eta_dil[l] = el.eta_dil[e];
+      B.eta_dev[l] = el.eta_dev[e];
+      for (int k = 0; k < 9; ++k) B.P_v[k][l] = 0.0;
+    }
+  }
   rebuild(grid);
+}
+
+void ForceAssembler::load_connectivity(const Grid& grid) {
+  const vtkIdType ne = grid.num_cells();
+  const vtkIdType* cells = grid.cells();
+  BRITTLE_CHECK(grid.num_points() <= INT32_MAX, "mesh: ", grid.num_points(),
+                " nodes is more than this build supports");
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    Block& B = blocks_[b];
+    for (int l = 0; l < kLanes; ++l) {
+      const vtkIdType i = static_cast<vtkIdType>(b) * kLanes + l;
+      const vtkIdType e = i < ne ? i : static_cast<vtkIdType>(b) * kLanes;
+      for (int k = 0; k < 4; ++k) B.node[k][l] = static_cast<std::int32_t>(cells[4 * e + k]);
+    }
+  }
 }
 
 void ForceAssembler::rebuild(const Grid& grid) {
@@ -104,78 +180,195 @@ void ForceAssembler::rebuild(const Grid& grid) {
   BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
   for (vtkIdType i = 0; i < 4 * ne; ++i)
     node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
+  load_connectivity(grid);
   gather_all(grid);
 }
 
-vtkIdType ForceAssembler::compute(const Grid& grid, const ElementData& el) {
+namespace {
+
+constexpr int W = ForceAssembler::kLanes;
+
+/// What the first pass over a block leaves for the second, lane-minor (it stays in L1).
+struct Pass1 {
+  double Ds[9][W];  // Ds(i, k) at [3 i + k]: edges p_k+1 - p_0 as columns
+  double G[9][W];   // Ds^-1, G(k, i) at [3 k + i]: row k = current gradient of N_k+1
+  double vol[W], inv_det[W], J[W], y[W];
+};
+
+/// The forces and stress of a block, lane-minor, before they are stored per element (the
+/// nodal sums read a corner's three components from one cache line).
+struct BlockOut {
+  double f[12][W], s[6][W];
+};
+
+}  // namespace
+
+vtkIdType ForceAssembler::compute(const Grid& grid) {
+  const vtkIdType bad = compute_elements(grid);
+  gather_all(grid);
+  return bad;
+}
+
+vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
   const vtkIdType ne = grid.num_cells();
-  const vtkIdType* cells = grid.cells();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
   double* ef = element_force_.data();
   double* vp = viscous_power_.data();
-  double* pv = viscous_force_.data();
   double* volume = volume_.data();
   double* bound = sigma1_bound_.data();
   const double K = K_, mu = mu_;
+  const vtkIdType nb = static_cast<vtkIdType>(blocks_.size());
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
 
 #pragma omp parallel for schedule(static) reduction(min : first_bad)
-  for (vtkIdType e = 0; e < ne; ++e) {
-    const vtkIdType* n = cells + 4 * e;
-    const Mat3 Ds = edge_matrix(x, n);
-    const Mat3 Vs = edge_matrix(v, n);
-    const Eigen::Map<const RowMat3> Dm_inv(el.Dm_inv.data() + 9 * e);
-    double det_Ds, inv_det_Ds;
-    // G = Ds^-1 = Dm^-1 F^-1: its rows are the current gradients of N1..N3.
-    const Mat3 G = inverse_with_det(Ds, det_Ds, inv_det_Ds);
-    const double vol = det_Ds * (1.0 / 6.0);
-    const double J = vol * el.inv_V0[e];  // det F = det Ds / det Dm
-    if (!(J > 0.0)) {  // inverted, degenerate or NaN: report, leave forces of this element
-      first_bad = std::min(first_bad, e);
-      continue;
-    }
-    const Mat3 F = Ds * Dm_inv;
-    const Mat3 T_el = elastic_stress(F, J, 6.0 * el.V0[e] * inv_det_Ds, K, mu, Omega[e]);  // (B.4)
-    const Mat3 L = Vs * G;  // velocity gradient
-    const Mat3 D = 0.5 * (L + L.transpose());
-    const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
-    // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3). P_v = v T_v G^T holds the
-    // viscous part: its columns are minus the viscous forces on corners 1..3.
-    const Mat3 P_v = vol * T_v * G.transpose();
-    const Mat3 f = -vol * T_el * G.transpose() - P_v;
-    const Vec3 f0 = -f.rowwise().sum();
-    double* out = ef + 12 * e;
-    for (int k = 0; k < 3; ++k) {
-      out[k] = f0[k];
-      out[3 + k] = f(k, 0);
-      out[6 + k] = f(k, 1);
-      out[9 + k] = f(k, 2);
-    }
-    // Viscous dissipation of the step as the kicks do the work: the viscous forces of the last
-    // step and of this one, each over half the step, on this step's motion dx = dt Vs:
-    // -(f_v(n) + f_v(n+1)) . dx / 2 = dt (P_v(n) + P_v(n+1)) : Vs / 2, exactly. (S(n) : D with
-    // this step's gradients in place of P_v(n) is first order in dt where elements change
-    // shape fast, as at a damaged crack tip.)
-    double* P_old = pv + 9 * e;
-    double old_work = 0, new_work = 0;
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        old_work += P_old[3 * j + i] * Vs(i, j);
-        new_work += P_v(i, j) * Vs(i, j);
-        P_old[3 * j + i] = P_v(i, j);
+  for (vtkIdType b = 0; b < nb; ++b) {
+    Block& B = blocks_[b];
+    const vtkIdType e0 = b * W;
+    const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
+    Pass1 p;
+    BlockOut r;
+    double* power = vp + e0;
+    double* vol_out = volume + e0;
+    double* bound_out = bound + e0;
+    double omega[W];
+    for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+
+    // Pass 1: Ds, its adjugate and determinant, G = Ds^-1, J and J^(-1/3) by Newton's iteration
+    // (material.hpp inverse_cbrt), all lanes alike.
+#pragma omp simd
+    for (int l = 0; l < W; ++l) {
+      const double* p0 = x + 3 * B.node[0][l];
+      double A[9];
+      for (int k = 0; k < 3; ++k) {
+        const double* pk = x + 3 * B.node[k + 1][l];
+        for (int i = 0; i < 3; ++i) A[3 * i + k] = pk[i] - p0[i];
       }
-    vp[e] = 0.5 * (old_work + new_work);
-    volume[e] = vol;
-    bound[e] = (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs()))
-                   .maxCoeff();
-    double* s = stress + 6 * e;
-    s[0] = T_el(0, 0), s[1] = T_el(1, 1), s[2] = T_el(2, 2);
-    s[3] = T_el(0, 1), s[4] = T_el(1, 2), s[5] = T_el(0, 2);
+      double C[9];  // adjugate, C(i, j) at [3 i + j]
+      C[0] = A[4] * A[8] - A[5] * A[7];
+      C[1] = A[2] * A[7] - A[1] * A[8];
+      C[2] = A[1] * A[5] - A[2] * A[4];
+      C[3] = A[5] * A[6] - A[3] * A[8];
+      C[4] = A[0] * A[8] - A[2] * A[6];
+      C[5] = A[2] * A[3] - A[0] * A[5];
+      C[6] = A[3] * A[7] - A[4] * A[6];
+      C[7] = A[1] * A[6] - A[0] * A[7];
+      C[8] = A[0] * A[4] - A[1] * A[3];
+      const double det = A[0] * C[0] + A[1] * C[3] + A[2] * C[6];
+      const double inv_det = 1.0 / det;
+      for (int k = 0; k < 9; ++k) {
+        p.Ds[k][l] = A[k];
+        p.G[k][l] = C[k] * inv_det;
+      }
+      const double vol = det * (1.0 / 6.0);
+      const double J = vol * B.inv_V0[l];
+      double y = (4.0 - J) * (1.0 / 3.0);
+      for (int i = 0; i < 3; ++i) y *= (4.0 - J * y * y * y) * (1.0 / 3.0);
+      p.vol[l] = vol;
+      p.inv_det[l] = inv_det;
+      p.J[l] = J;
+      p.y[l] = y;
+    }
+    // The few elements far from J = 1 (crack tips) take the library's cube root.
+    for (int l = 0; l < W; ++l)
+      if (std::abs(p.J[l] - 1.0) >= 0.05) p.y[l] = 1.0 / std::cbrt(p.J[l]);
+
+    // Pass 2: F, T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
+#pragma omp simd
+    for (int l = 0; l < W; ++l) {
+      double Ds[9], G[9], Dm[9];
+      for (int k = 0; k < 9; ++k) Ds[k] = p.Ds[k][l], G[k] = p.G[k][l], Dm[k] = B.Dm_inv[k][l];
+      // T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)], B = F F^T, F = Ds Dm^-1
+      double F[9];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          F[3 * i + j] = Ds[3 * i] * Dm[j] + Ds[3 * i + 1] * Dm[3 + j] + Ds[3 * i + 2] * Dm[6 + j];
+      auto dot_rows = [&F](int i, int j) {
+        return F[3 * i] * F[3 * j] + F[3 * i + 1] * F[3 * j + 1] + F[3 * i + 2] * F[3 * j + 2];
+      };
+      const double B00 = dot_rows(0, 0), B11 = dot_rows(1, 1), B22 = dot_rows(2, 2);
+      const double B01 = dot_rows(0, 1), B12 = dot_rows(1, 2), B02 = dot_rows(0, 2);
+      const double y = p.y[l], y2 = y * y, mu_J53 = mu * y2 * y2 * y;
+      const double inv_J = 6.0 * B.V0[l] * p.inv_det[l];
+      const double pressure = -K * (inv_J - 1.0) - mu_J53 * ((B00 + B11 + B22) * (1.0 / 3.0));
+      const double intact = 1.0 - omega[l];
+      double T[9];
+      T[0] = intact * (mu_J53 * B00 + pressure);
+      T[4] = intact * (mu_J53 * B11 + pressure);
+      T[8] = intact * (mu_J53 * B22 + pressure);
+      T[1] = T[3] = intact * (mu_J53 * B01);
+      T[5] = T[7] = intact * (mu_J53 * B12);
+      T[2] = T[6] = intact * (mu_J53 * B02);
+      // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
+      const double* v0 = v + 3 * B.node[0][l];
+      double Vs[9];
+      for (int k = 0; k < 3; ++k) {
+        const double* vk = v + 3 * B.node[k + 1][l];
+        for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
+      }
+      double L[9];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          L[3 * i + j] = Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
+      const double trD = L[0] + L[4] + L[8];
+      const double eta_dev = B.eta_dev[l];
+      const double bulk = (B.eta_dil[l] - eta_dev * (2.0 / 3.0)) * trD;
+      double Tv[9];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
+      Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
+      // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
+      const double vol = p.vol[l];
+      double old_work = 0.0, new_work = 0.0;
+      double f0[3] = {0.0, 0.0, 0.0};
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const double Tg = T[3 * i] * G[3 * j] + T[3 * i + 1] * G[3 * j + 1] +
+                            T[3 * i + 2] * G[3 * j + 2];
+          const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
+                                   Tv[3 * i + 2] * G[3 * j + 2]);
+          const double f = -vol * Tg - Pv;
+          r.f[3 * (j + 1) + i][l] = f;
+          f0[i] -= f;
+          const double P_old = B.P_v[3 * j + i][l];
+          old_work += P_old * Vs[3 * i + j];
+          new_work += Pv * Vs[3 * i + j];
+          B.P_v[3 * j + i][l] = Pv;
+        }
+      for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
+      power[l] = 0.5 * (old_work + new_work);
+      vol_out[l] = vol;
+      double most = T[0] + std::abs(T[1]) + std::abs(T[2]);
+      most = std::max(most, T[4] + std::abs(T[3]) + std::abs(T[5]));
+      most = std::max(most, T[8] + std::abs(T[6]) + std::abs(T[7]));
+      bound_out[l] = most;
+      r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
+      r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
+    }
+
+    // Forces and stress per element. An inverted, degenerate or NaN element keeps its old
+    // forces and stress and adds no viscous power; its other values are not meaningful (the
+    // step is abandoned).
+    double block_power = 0.0;
+    for (int l = 0; l < lanes; ++l) {
+      const vtkIdType e = e0 + l;
+      if (!(p.J[l] > 0.0)) {
+        first_bad = std::min(first_bad, e);
+        continue;
+      }
+      for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
+      for (int k = 0; k < 6; ++k) stress[6 * e + k] = r.s[k][l];
+      block_power += power[l];
+    }
+    block_power_[b] = block_power;
   }
 
-  gather_all(grid);
   return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
+}
+
+void ForceAssembler::viscous_stress_power(vtkIdType e, double P_v[9]) const {
+  const Block& B = blocks_[e / kLanes];
+  for (int k = 0; k < 9; ++k) P_v[k] = B.P_v[k][e % kLanes];
 }
 
 namespace {
@@ -230,7 +423,7 @@ void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor)
 
 double ForceAssembler::viscous_power() const {
   double sum = 0.0;
-  for (double p : viscous_power_) sum += p;
+  for (double p : block_power_) sum += p;
   return sum;
 }
 

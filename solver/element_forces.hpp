@@ -19,6 +19,22 @@ struct ElementData {
   std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
 };
 
+/// What the element update (B.4)+(B.5) gives for one element at the grid's current x and v.
+struct ElementUpdate {
+  double force[12] = {};  ///< corners 0..3, 3 components each
+  double stress[6] = {};  ///< T_el: xx, yy, zz, xy, yz, xz
+  double P_v[9] = {};     ///< v T_v G^T, column-major (minus the viscous forces on corners 1..3)
+  double viscous_power = 0, volume = 0, sigma1_bound = 0;
+  bool ok = false;        ///< J > 0 (else nothing else is meaningful)
+};
+
+/// The element update one element at a time, written as directly from the equations as we
+/// can: the reference that the blocked kernel of ForceAssembler::compute is tested against.
+/// `P_v_old` is the element's P_v of the previous step (for the viscous power).
+ElementUpdate reference_element_update(const Grid& grid, const ElementData& elements,
+                                       const ElasticConstants& c, vtkIdType e,
+                                       const double* P_v_old);
+
 /// F = Ds Dm^-1 of element e at the grid's current positions (outside the step loop).
 Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e);
 
@@ -32,9 +48,15 @@ void lump_masses(Grid& grid, const ElementData& elements, double rho0);
 /// Nodal internal forces. Elements write their 12 force components into a buffer in cell
 /// order; each node then sums its (element, corner) entries in a fixed order. No atomics and
 /// no reductions over threads, so results are bitwise independent of the thread count.
+///
+/// The element loop works on blocks of kLanes consecutive cells whose constants sit side by
+/// side (structure of arrays within a block), so the compiler evaluates one lane per SIMD
+/// slot; the block boundaries are fixed by the cell numbering, never by the threads.
 class ForceAssembler {
  public:
-  ForceAssembler(const Grid& grid, const ElasticConstants& c);
+  static constexpr int kLanes = 8;
+
+  ForceAssembler(const Grid& grid, const ElementData& elements, const ElasticConstants& c);
 
   /// After a topology change (node splits; the number of cells never changes): rebuilds the
   /// node -> (element, corner) table and re-sums every node's force from the element buffer.
@@ -46,7 +68,12 @@ class ForceAssembler {
   /// viscous corner forces), Vs the corner velocities relative to corner 0: exactly the work
   /// the viscous forces do in the central-difference step, per dt. Returns the
   /// index of the first element with J <= 0 or NaN, or -1 if none.
-  vtkIdType compute(const Grid& grid, const ElementData& elements);
+  vtkIdType compute(const Grid& grid);
+
+  /// The two halves of compute(): the element loop (stress, element forces, viscous power),
+  /// then the nodal sums.
+  vtkIdType compute_elements(const Grid& grid);
+  void assemble(const Grid& grid) { gather_all(grid); }
 
   /// T_el carries (1 - Omega) (B.4): when Omega of element e changes, its elastic stress and
   /// the elastic part of its corner forces are multiplied by `factor` = (1 - Omega_new) /
@@ -63,12 +90,17 @@ class ForceAssembler {
   /// Sum over elements of the viscous power from the last compute() (deterministic order).
   double viscous_power() const;
 
-  /// From the last compute(): the 3 force components on corner c of element e at
-  /// element_forces()[12 e + 3 c]; current volumes; an upper bound of the largest principal
-  /// value of T_el per element (Gershgorin), which also bounds every nodal average (2.10).
-  const double* element_forces() const { return element_force_.data(); }
+  /// From the last compute(): the force on corner c of element e; current volumes; an upper
+  /// bound of the largest principal value of T_el per element (Gershgorin), which also bounds
+  /// every nodal average (2.10); viscous powers. The per-element arrays hold whole blocks:
+  /// entries past the last cell are padding.
+  Vec3 corner_force(vtkIdType e, int c) const { return Vec3(element_force_.data() + 12 * e + 3 * c); }
   const double* volumes() const { return volume_.data(); }
+  const double* viscous_powers() const { return viscous_power_.data(); }
   const double* sigma1_bound() const { return sigma1_bound_.data(); }
+
+  /// P_v of element e from the last compute(), as ElementUpdate::P_v (for tests).
+  void viscous_stress_power(vtkIdType e, double P_v[9]) const;
 
   /// Node -> (4 element + corner) entries, in cell order: node p owns
   /// node_entries()[node_start()[p] .. node_start()[p + 1]).
@@ -77,12 +109,23 @@ class ForceAssembler {
 
  private:
   void gather_all(const Grid& grid);
+  void load_connectivity(const Grid& grid);
+
+  /// kLanes consecutive cells: their corner nodes and constants, lane-minor. Lanes past the
+  /// last cell repeat lane 0 of the block (computed, never written out).
+  struct alignas(64) Block {
+    std::int32_t node[4][kLanes];
+    double Dm_inv[9][kLanes];  // row-major 3x3
+    double V0[kLanes], inv_V0[kLanes], eta_dil[kLanes], eta_dev[kLanes];
+    double P_v[9][kLanes];     // v T_v G^T of the last step, column-major 3x3
+  };
 
   double K_, mu_;
+  std::vector<Block> blocks_;
   std::vector<double> force_;           // 3 per point: the gathered nodal forces
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
   std::vector<double> viscous_power_;   // 1 per element
-  std::vector<double> viscous_force_;   // 9 per element: P_v = v T_v G^T of the last step
+  std::vector<double> block_power_;     // 1 per block: its elements' viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element
   std::vector<vtkIdType> node_start_;     // CSR: node -> range in node_entries_

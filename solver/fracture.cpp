@@ -145,11 +145,10 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   if (plus == 0 || plus == static_cast<int>(around.size())) return false;  // nothing to split
 
   // Masses and element forces of the two daughters (2.3); m_a + m_b = m_K exactly.
-  const double* ef = forces.element_forces();
   r.a = K;
   std::vector<vtkIdType> b_cells;
   for (const Corner& k : around) {
-    const Vec3 f(ef + 12 * k.cell + 3 * k.corner);
+    const Vec3 f = forces.corner_force(k.cell, k.corner);
     if (k.plus) {
       r.F_b += f;
       b_cells.push_back(k.cell);

@@ -90,7 +90,7 @@ int Integrator::advance_links(double dt, bool& capped) {
   return substeps;
 }
 
-vtkIdType Integrator::compute_element_forces(double dt) {
+vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {
   // The element viscosity (B.5) sees the rate at which the nodes moved over the step: for
   // nodes that drifted through the links' sub-steps that is (x(n+1) - x(n)) / dt, not their
   // velocity after the last sub-step. Swapped into the grid for the computation only.
@@ -105,26 +105,38 @@ vtkIdType Integrator::compute_element_forces(double dt) {
         v[j] = (x[j] - start_x_[3 * i + k]) / dt;
       }
   }
-  const vtkIdType bad = forces_.compute(grid_, elements_);
+  const vtkIdType bad = forces_.compute_elements(grid_);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (int k = 0; k < 3; ++k) v[3 * nodes[i] + k] = linked_v_[3 * i + k];
   moved_.clear();
+  clock.lap(times_.element_kernel);
+  forces_.assemble(grid_);
+  clock.lap(times_.assembly);
   return bad;
 }
 
 StepReport Integrator::step(double t, double dt) {
   StepReport r;
+  PhaseClock clock;
   const double half_dt = 0.5 * dt;
   kick(forces_.nodal_forces().data(), half_dt, t, t + half_dt);  // v(n+1/2): outer forces F(n)
   drift_unlinked(dt);                                 // x(n+1) of the nodes without links
+  clock.lap(times_.kick_drift);
   r.substeps = advance_links(dt, r.substeps_capped);  // linked nodes: inner forces (2.7)-(2.8)
   r.links_removed = links_.remove_broken(grid_.num_points());  // omega = 1: the link is gone
-  r.bad_element = compute_element_forces(dt);                  // F(n+1): (B.4) + (B.5) at x(n+1)
+  clock.lap(times_.links);
+  r.bad_element = compute_element_forces(dt, clock);  // F(n+1): (B.4) + (B.5) at x(n+1)
   if (r.bad_element >= 0) return r;
   r.viscous_dissipated = dt * forces_.viscous_power();
   if (damage_.enabled())  // Omega(n+1) (5.2)-(5.3); F(n+1) brought to it
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
-  r.splits = fracture_.split_nodes(grid_, elements_, forces_);  // (2.10)-(2.12), links (2.6)
+  clock.lap(times_.damage);
+  if (fracture_.enabled()) {  // (2.10)-(2.12), links (2.6)
+    const std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);
+    clock.lap(times_.split_scan);
+    if (!over.empty()) r.splits = fracture_.split(grid_, elements_, forces_, over);
+    clock.lap(times_.splits);
+  }
 
   kick(forces_.nodal_forces().data(), half_dt, t + dt, t + dt);  // v(n+1) with F(n+1)
   // A new link acts from the instant of its split: with f0 (2.6) in this half kick the
@@ -139,6 +151,7 @@ StepReport Integrator::step(double t, double dt) {
       v[3 * s.b + k] -= half_dt * s.f0[k] / m[s.b];
     }
   }
+  clock.lap(times_.kick_drift);
   return r;
 }
 

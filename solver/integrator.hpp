@@ -3,7 +3,9 @@
 // stable time step and its re-check as elements distort.
 #pragma once
 
+#include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "boundary.hpp"
@@ -33,6 +35,43 @@ struct StableStep {
 /// flattens. c_p is the small-strain P speed (docs/model.md, "Stable step").
 StableStep stable_time_step(const Grid& grid, const ElementData& elements,
                             const ElasticConstants& c, double cfl);
+
+/// Wall time of each phase of the step loop, summed over the run [s]: summary.json "phases",
+/// `brittle run --profile` (docs/performance.md).
+struct PhaseTimes {
+  double kick_drift = 0;      ///< both kicks, the drift of nodes without links, loads
+  double links = 0;           ///< the links' RESPA sub-steps and removal of broken links
+  double element_kernel = 0;  ///< (B.4)+(B.5), element by element
+  double assembly = 0;        ///< nodal sums of the element forces
+  double damage = 0;          ///< (5.2)-(5.3), forces brought to the new Omega
+  double split_scan = 0;      ///< nodal averages (2.10) and the split criterion (2.12)
+  double splits = 0;          ///< node splits, new links, the node table rebuilt
+  double bookkeeping = 0;     ///< crack fronts, stable-step re-check
+  double output = 0;          ///< energy rows, tip samples, frames and writers (not stepping)
+  /// (name, seconds) of every phase, in step order, output last.
+  std::vector<std::pair<const char*, double>> named() const {
+    return {{"kick_drift", kick_drift}, {"links", links},           {"element_kernel", element_kernel},
+            {"assembly", assembly},     {"damage", damage},         {"split_scan", split_scan},
+            {"splits", splits},         {"bookkeeping", bookkeeping}, {"output", output}};
+  }
+  double stepping() const {
+    return kick_drift + links + element_kernel + assembly + damage + split_scan + splits +
+           bookkeeping;
+  }
+};
+
+/// Adds the time since the last lap to a phase.
+class PhaseClock {
+ public:
+  void lap(double& phase) {
+    const auto now = std::chrono::steady_clock::now();
+    phase += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 /// What one step did, for the simulation's bookkeeping and warnings.
 struct StepReport {
@@ -72,12 +111,15 @@ class Integrator {
   /// Returns what happened; with bad_element >= 0 the state is not usable.
   StepReport step(double t, double dt);
 
+  /// Time spent in each phase of step() so far.
+  const PhaseTimes& times() const { return times_; }
+
  private:
   /// v += tau F/m on free components, then the boundary's loads and constraints.
   void kick(const double* force, double tau, double t_force, double t_velocity);
   void drift_unlinked(double dt);
   int advance_links(double dt, bool& capped);
-  vtkIdType compute_element_forces(double dt);
+  vtkIdType compute_element_forces(double dt, PhaseClock& clock);
 
   Grid& grid_;
   const ElementData& elements_;
@@ -88,6 +130,7 @@ class Integrator {
   Boundary& boundary_;
   std::vector<vtkIdType> moved_;            // nodes that drifted in this step's sub-steps
   std::vector<double> start_x_, linked_v_;  // per moved node, 3 each
+  PhaseTimes times_;
 };
 
 }  // namespace brittle

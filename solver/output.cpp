@@ -194,6 +194,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["threads"] = s.threads;
   j["wall_seconds"] = number(s.wall_seconds);
   j["tet_updates_per_second"] = number(s.tet_updates_per_second);
+  for (const auto& [name, seconds] : s.phases.named()) j["phases"][name] = number(seconds);
   j["initial_energy"] = number(s.initial_elastic);
   j["final_kinetic"] = number(e.kinetic);
   j["final_elastic"] = number(e.elastic);

@@ -60,7 +60,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                  : 0.0),
       grid_(reference_mesh),
       elements_(make_element_data(grid_, constants_, scene.material)),
-      assembler_(grid_, constants_),
+      assembler_(grid_, elements_, constants_),
       links_(CohesiveLaw{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
              grid_.num_points()),
       fracture_(scene, grid_, links_),
@@ -87,7 +87,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt), "initial state: element ",
                 stable.element, " gives no stable time step (altitude ", stable.altitude, " m)");
   dt_ = initial_dt_ = stable.dt;
-  const vtkIdType bad = assembler_.compute(grid_, elements_);
+  const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
 }
 
@@ -105,6 +105,7 @@ void Simulation::step() {
                               "): element ", r.bad_element,
                               " inverted or NaN; try a smaller run.cfl"));
   }
+  PhaseClock clock;
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
@@ -112,6 +113,14 @@ void Simulation::step() {
     fronts_.on_split(time_, grid_.X()[3 * split.a], grid_.X()[3 * split.a + 1]);
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
+  clock.lap(own_times_.bookkeeping);
+}
+
+PhaseTimes Simulation::phases() const {
+  PhaseTimes p = integrator_.times();
+  p.bookkeeping = own_times_.bookkeeping;
+  p.output = own_times_.output;
+  return p;
 }
 
 void Simulation::check_time_step() {
@@ -223,6 +232,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   bool imbalance_warned = false;
   auto due = [this](double t) { return time_ >= t - 0.5 * dt_; };
   auto emit = [&]() {
+    PhaseClock clock;
     if (due(next_energy)) {
       const Energies e = energies();
       const double imbalance =
@@ -255,6 +265,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       for (Observer* o : observers) o->on_frame(*this);
       while (next_frame < frames.size() && due(frames[next_frame])) ++next_frame;
     }
+    clock.lap(own_times_.output);
   };
 
   for (Observer* o : observers) o->on_start(*this);
@@ -307,6 +318,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   }
   summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
   summary.zhou_speed = zhou_speed(summary.W);
+  summary.phases = phases();
   for (Observer* o : observers) o->on_finish(*this, summary);
   if (summary.status != "completed") throw Error(summary.status.substr(8));
   return summary;

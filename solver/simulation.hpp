@@ -63,6 +63,7 @@ struct RunSummary {
   double speed_stop_x = 0;          ///< the window ends when the tip passes this x
   double W = 0;                     ///< H sigma^2 / (2E)
   double zhou_speed = 0;            ///< speed of the Zhou et al. fit (1.1) at W
+  PhaseTimes phases;                ///< wall time per phase of the step loop
 };
 
 class Simulation;
@@ -118,6 +119,8 @@ class Simulation {
   const Boundary& boundary() const { return boundary_; }
   /// What the last step did (sub-steps, splits, dissipation).
   const StepReport& last_step() const { return last_step_; }
+  /// Wall time per phase so far: the integrator's, bookkeeping and output.
+  PhaseTimes phases() const;
   /// Warnings raised while stepping (dt reduced, sub-step cap) not yet handed to observers.
   std::vector<std::string> take_step_warnings() { return std::exchange(step_warnings_, {}); }
   /// Crack tip samples, one per energy interval (tip = notch tip before the first split): on
@@ -154,6 +157,7 @@ class Simulation {
   Boundary boundary_;
   Integrator integrator_;
   StepReport last_step_;
+  PhaseTimes own_times_;  // bookkeeping and output (the integrator times the rest)
   std::vector<TipSample> tip_samples_;
   CrackFronts fronts_;
   double dt_ = 0, initial_dt_ = 0, time_ = 0;

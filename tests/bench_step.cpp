@@ -1,9 +1,15 @@
-// Tet-updates per second of the explicit step on the paper's CM and RM meshes, 1 and 2
-// threads. Run: build/release/tests/brittle_bench (items_per_second = tet-updates/s).
+// Tet-updates per second of the explicit step (docs/performance.md). Run:
+//   build/release/tests/brittle_bench                       CM and RM cases (about 1 min)
+//   build/release/tests/brittle_bench --benchmark_filter=Large   the 1.6 M-tet plate (minutes)
+// items_per_second = tet-updates/s. Cases:
+//   Elastic         elastic + viscous step only (fracture off): the element kernel's rate
+//   Straight        the paper's straight-crack run at 0.9 sigma_c (fracture scan each step)
+//   BranchingDamage branching + damage at 0.9 sigma_c: splits, links and damage as they come
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "plate_mesh.hpp"
 #include "scene_options.hpp"
@@ -11,27 +17,36 @@
 
 namespace {
 
-/// The scene scenes/<name>.ini at 0.9 sigma_c, its mesh generated once per process.
+/// A scene from scenes/*.ini plus overrides, its mesh generated once per process.
 struct Case {
   brittle::Scene scene;
   vtkSmartPointer<vtkUnstructuredGrid> mesh;
 };
 
-const Case& load(const std::string& name) {
+const Case& load(const std::vector<std::string>& files, const std::vector<std::string>& sets) {
   static std::map<std::string, Case> cache;
-  auto it = cache.find(name);
+  std::string key;
+  for (const auto& s : files) key += s + " ";
+  for (const auto& s : sets) key += s + " ";
+  auto it = cache.find(key);
   if (it == cache.end()) {
     Case c;
-    c.scene = brittle::load_scene({std::string(BRITTLE_SOURCE_DIR) + "/scenes/" + name + ".ini"},
-                                  {"loading.sigma_over_sigmac=0.9"});
+    std::vector<std::string> paths;
+    for (const auto& f : files) paths.push_back(std::string(BRITTLE_SOURCE_DIR) + "/scenes/" + f);
+    c.scene = brittle::load_scene(paths, sets);
     c.mesh = brittle::make_mesh(c.scene);
-    it = cache.emplace(name, std::move(c)).first;
+    it = cache.emplace(key, std::move(c)).first;
   }
   return it->second;
 }
 
-void BM_Step(benchmark::State& state, const std::string& name) {
-  const Case& c = load(name);
+/// Steps a fresh simulation as often as the benchmark asks; the simulated time is not
+/// bounded (the crack runs out of the plate on long runs, which the Straight and
+/// BranchingDamage rates then include).
+void BM_Step(benchmark::State& state, std::vector<std::string> files,
+             std::vector<std::string> sets) {
+  sets.push_back("loading.sigma_over_sigmac=0.9");
+  const Case& c = load(files, sets);
   brittle::Scene scene = c.scene;
   scene.run.threads = static_cast<int>(state.range(0));
   brittle::Simulation sim(scene, *c.mesh);
@@ -39,11 +54,58 @@ void BM_Step(benchmark::State& state, const std::string& name) {
   state.SetItemsProcessed(state.iterations() * sim.grid().num_cells());
   state.counters["tets"] = static_cast<double>(sim.grid().num_cells());
   state.counters["threads"] = static_cast<double>(state.range(0));
+  state.counters["splits"] = static_cast<double>(sim.fracture().splits());
 }
 
-BENCHMARK_CAPTURE(BM_Step, CM, std::string("cm"))->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
-BENCHMARK_CAPTURE(BM_Step, RM, std::string("rm"))->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
+/// The element loop alone (compute_elements) and the nodal sums alone (assemble), on the
+/// initial state: the two halves of the force computation, for the roofline.
+void BM_Kernel(benchmark::State& state, std::vector<std::string> files, bool assembly) {
+  const Case& c = load(files, {"loading.sigma_over_sigmac=0.9", "fracture.mode=none"});
+  brittle::Scene scene = c.scene;
+  scene.run.threads = static_cast<int>(state.range(0));
+  brittle::Simulation sim(scene, *c.mesh);
+  brittle::ForceAssembler& forces = sim.forces();
+  for (auto _ : state) {
+    if (assembly)
+      forces.assemble(sim.grid());
+    else
+      benchmark::DoNotOptimize(forces.compute_elements(sim.grid()));
+  }
+  state.SetItemsProcessed(state.iterations() * sim.grid().num_cells());
+}
+
+using V = std::vector<std::string>;
+const V kNoFracture{"fracture.mode=none"};
+// The largest mesh of the scaling table: RM's plate at h = 125 um, 8 layers (1.6 M tets).
+const V kLarge{"fracture.mode=none", "mesh.size=125e-6", "mesh.band_size=125e-6",
+               "mesh.layers=8"};
+
+BENCHMARK_CAPTURE(BM_Kernel, ElementLoop_CM, V{"cm.ini"}, false)
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(BM_Kernel, Assembly_CM, V{"cm.ini"}, true)
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(BM_Step, Elastic_CM, V{"cm.ini"}, kNoFracture)
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Step, Elastic_RM, V{"rm.ini"}, kNoFracture)
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Step, Straight_CM, V{"cm.ini"}, V{})
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Step, Straight_RM, V{"rm.ini"}, V{})
+    ->Arg(1)->Arg(2)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Step, BranchingDamage_RM, V({"rm.ini", "branching.ini", "damage.ini"}), V{})
+    ->Arg(1)->Arg(2)->UseRealTime()->Iterations(1500);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The Large case needs about 2 GB and minutes to mesh: it runs only when a filter names it.
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]).find("Large") != std::string::npos)
+      benchmark::RegisterBenchmark("BM_Step/Large_Elastic", BM_Step, V{"rm.ini"}, kLarge)
+          ->Arg(1)->Arg(2)->UseRealTime()->Iterations(20);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
