@@ -89,8 +89,16 @@ CohesiveLinks::CohesiveLinks(const CohesiveLaw& law, vtkIdType num_points) : law
 }
 
 void CohesiveLinks::add(CohesiveLink link, vtkIdType num_points) {
+  linked_.resize(num_points, 0);
+  mark_linked(link.a);
+  mark_linked(link.b);
   links_.push_back(std::move(link));
-  refresh_linked(num_points);
+}
+
+void CohesiveLinks::mark_linked(vtkIdType p) {
+  if (linked_[p]) return;
+  linked_[p] = 1;
+  linked_nodes_.insert(std::lower_bound(linked_nodes_.begin(), linked_nodes_.end(), p), p);
 }
 
 void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double m1, double m2,
@@ -99,7 +107,9 @@ void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double 
   for (std::size_t i = 0; i < held; ++i)
     if (links_[i].a == old_node || links_[i].b == old_node)
       links_.push_back(split_link(links_[i], old_node, new_node, m1, m2, new_cells, law_));
-  if (links_.size() != held) refresh_linked(num_points);
+  if (links_.size() == held) return;
+  linked_.resize(num_points, 0);
+  mark_linked(new_node);  // the other ends held links already
 }
 
 int CohesiveLinks::substeps_needed(const Grid& grid, double dt) const {

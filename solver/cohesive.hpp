@@ -113,6 +113,7 @@ class CohesiveLinks {
 
  private:
   void refresh_linked(vtkIdType num_points);
+  void mark_linked(vtkIdType p);  // linked_ has room for p
 
   CohesiveLaw law_;
   std::vector<CohesiveLink> links_;

@@ -35,10 +35,16 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
       const double* t = grid.stress() + 6 * e;
       Mat3 T;
       T << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
-      Eigen::SelfAdjointEigenSolver<Mat3> eig;
-      eig.computeDirect(T, Eigen::EigenvaluesOnly);
-      const double Omega_new = advance_damage(
-          Omega[e], damage_target(eig.eigenvalues()[2], sigma_c_, params_), params_.beta1, dt);
+      // sigma1 below beta3 sigma_c: Omega_d = 0 and Omega stays, no eigen-solve needed. The
+      // element's energy is still evaluated: if it crosses the threshold next step, the
+      // trapezoid needs this end as its start (skipping it made damage first order in dt).
+      double Omega_new = Omega[e];
+      if (!principal_values_below(T, threshold)) {
+        Eigen::SelfAdjointEigenSolver<Mat3> eig;
+        eig.computeDirect(T, Eigen::EigenvaluesOnly);
+        Omega_new = advance_damage(Omega[e], damage_target(eig.eigenvalues()[2], sigma_c_, params_),
+                                   params_.beta1, dt);
+      }
       const double start_energy = undamaged_energy_[e];
       const bool had_start = evaluated_at_[e] == now - 1;
       const double end_energy =
@@ -56,12 +62,14 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
   }
   // Nodal sums of the corners of the changed cells, each node once.
   touched_nodes_.clear();
+  touched_.resize(grid.num_points(), 0);
   for (const auto& changed : block_cells_)
     for (vtkIdType e : changed)
-      touched_nodes_.insert(touched_nodes_.end(), grid.cells() + 4 * e, grid.cells() + 4 * e + 4);
-  std::sort(touched_nodes_.begin(), touched_nodes_.end());
-  touched_nodes_.erase(std::unique(touched_nodes_.begin(), touched_nodes_.end()),
-                       touched_nodes_.end());
+      for (int k = 0; k < 4; ++k) {
+        const vtkIdType p = grid.cells()[4 * e + k];
+        if (!touched_[p]) touched_[p] = 1, touched_nodes_.push_back(p);
+      }
+  for (vtkIdType p : touched_nodes_) touched_[p] = 0;  // the order of the sums does not matter
   forces.gather(touched_nodes_);
   double total = 0.0;
   for (double s : block_sums_) total += s;

@@ -53,6 +53,7 @@ class Damage {
   std::vector<double> block_sums_;
   std::vector<std::vector<vtkIdType>> block_cells_;  // cells whose Omega changed, per block
   std::vector<vtkIdType> touched_nodes_;
+  std::vector<std::uint8_t> touched_;  // scratch: 1 while a node is in touched_nodes_
 };
 
 }  // namespace brittle

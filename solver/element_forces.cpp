@@ -120,8 +120,8 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
     }
   u.viscous_power = 0.5 * (old_work + new_work);
   u.volume = vol;
-  u.sigma1_bound =
-      (T_el.diagonal() + (T_el.cwiseAbs().rowwise().sum() - T_el.diagonal().cwiseAbs())).maxCoeff();
+  u.sigma1_bound = sigma1_upper_bound(T_el(0, 0), T_el(1, 1), T_el(2, 2), T_el(0, 1), T_el(1, 2),
+                                      T_el(0, 2));
   const double s[6] = {T_el(0, 0), T_el(1, 1), T_el(2, 2), T_el(0, 1), T_el(1, 2), T_el(0, 2)};
   std::copy(s, s + 6, u.stress);
   return u;
@@ -172,16 +172,49 @@ void ForceAssembler::load_connectivity(const Grid& grid) {
 void ForceAssembler::rebuild(const Grid& grid) {
   const vtkIdType np = grid.num_points(), ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
+  BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
   node_start_.assign(np + 1, 0);
   for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
   for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
+  node_end_.assign(node_start_.begin() + 1, node_start_.end());
+  node_start_.pop_back();
   node_entries_.resize(4 * ne);
-  std::vector<vtkIdType> fill(node_start_.begin(), node_start_.end() - 1);
-  BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
+  std::vector<vtkIdType> fill(node_start_);
   for (vtkIdType i = 0; i < 4 * ne; ++i)
     node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
   load_connectivity(grid);
   gather_all(grid);
+}
+
+void ForceAssembler::split_node(const Grid& grid, vtkIdType K, vtkIdType B,
+                                const std::vector<vtkIdType>& cells) {
+  BRITTLE_CHECK(B == static_cast<vtkIdType>(node_start_.size()) && B <= INT32_MAX,
+                "ForceAssembler::split_node: node ", B, " is not the next node");
+  BRITTLE_CHECK(node_entries_.size() + cells.size() <= INT32_MAX,
+                "mesh: too many node splits for this build");
+  // K's entries are in cell order: those of `cells` go to B, the rest stay, both in order.
+  const vtkIdType first = node_start_[K], last = node_end_[K];
+  node_start_.push_back(static_cast<vtkIdType>(node_entries_.size()));
+  vtkIdType keep = first;
+  for (vtkIdType k = first; k < last; ++k) {
+    const std::int32_t entry = node_entries_[k];
+    if (std::binary_search(cells.begin(), cells.end(), static_cast<vtkIdType>(entry / 4))) {
+      node_entries_.push_back(entry);
+      Block& blk = blocks_[entry / 4 / kLanes];
+      const int lane = entry / 4 % kLanes;
+      blk.node[entry % 4][lane] = static_cast<std::int32_t>(B);
+      if (lane == 0)  // padding lanes of a last, partly filled block repeat lane 0
+        for (int l = 1; l < kLanes; ++l)
+          if (static_cast<vtkIdType>(entry / 4 / kLanes) * kLanes + l >= grid.num_cells())
+            blk.node[entry % 4][l] = static_cast<std::int32_t>(B);
+    } else {
+      node_entries_[keep++] = entry;
+    }
+  }
+  node_end_[K] = keep;
+  node_end_.push_back(static_cast<vtkIdType>(node_entries_.size()));
+  force_.resize(3 * grid.num_points());
+  gather({K, B});
 }
 
 namespace {
@@ -338,10 +371,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
       for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
       power[l] = 0.5 * (old_work + new_work);
       vol_out[l] = vol;
-      double most = T[0] + std::abs(T[1]) + std::abs(T[2]);
-      most = std::max(most, T[4] + std::abs(T[3]) + std::abs(T[5]));
-      most = std::max(most, T[8] + std::abs(T[6]) + std::abs(T[7]));
-      bound_out[l] = most;
+      bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
       r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
       r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
     }
@@ -373,10 +403,10 @@ void ForceAssembler::viscous_stress_power(vtkIdType e, double P_v[9]) const {
 
 namespace {
 /// f_p = sum of the (element, corner) entries of node p, in cell order.
-inline void gather_node(vtkIdType p, const vtkIdType* start, const std::int32_t* entries,
-                        const double* ef, double* f) {
+inline void gather_node(vtkIdType p, const vtkIdType* start, const vtkIdType* end,
+                        const std::int32_t* entries, const double* ef, double* f) {
   double s0 = 0, s1 = 0, s2 = 0;
-  for (vtkIdType k = start[p]; k < start[p + 1]; ++k) {
+  for (vtkIdType k = start[p]; k < end[p]; ++k) {
     const double* c = ef + 3 * entries[k];
     s0 += c[0], s1 += c[1], s2 += c[2];
   }
@@ -387,17 +417,18 @@ inline void gather_node(vtkIdType p, const vtkIdType* start, const std::int32_t*
 void ForceAssembler::gather_all(const Grid& grid) {
   const vtkIdType np = grid.num_points();
   force_.resize(3 * np);
-  const vtkIdType* start = node_start_.data();
+  const vtkIdType *start = node_start_.data(), *end = node_end_.data();
   const std::int32_t* entries = node_entries_.data();
   const double* ef = element_force_.data();
   double* f = force_.data();
 #pragma omp parallel for schedule(static)
-  for (vtkIdType p = 0; p < np; ++p) gather_node(p, start, entries, ef, f);
+  for (vtkIdType p = 0; p < np; ++p) gather_node(p, start, end, entries, ef, f);
 }
 
 void ForceAssembler::gather(const std::vector<vtkIdType>& nodes) {
   for (vtkIdType p : nodes)
-    gather_node(p, node_start_.data(), node_entries_.data(), element_force_.data(), force_.data());
+    gather_node(p, node_start_.data(), node_end_.data(), node_entries_.data(),
+                element_force_.data(), force_.data());
 }
 
 void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor) {

@@ -2,6 +2,8 @@
 // deterministic assembly into nodal forces (SPEC 4).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +20,25 @@ struct ElementData {
   std::vector<double> eta_dil;  ///< zeta1 rho0 c_p h_e: bulk viscosity of the element
   std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
 };
+
+/// An upper bound of the largest principal value of a symmetric stress (components xx, yy, zz,
+/// xy, yz, xz): the smaller of Gershgorin's and tr/3 + sqrt(2/3) |dev|. Cheap enough for every
+/// element every step; it lets the split scan and damage skip elements that cannot reach
+/// their thresholds. Inline so the element loop vectorises it.
+inline double sigma1_upper_bound(double xx, double yy, double zz, double xy, double yz, double xz) {
+  // Gershgorin: every eigenvalue lies in a disc around a diagonal entry.
+  const double gershgorin = std::max(std::max(xx + std::abs(xy) + std::abs(xz),
+                                             yy + std::abs(xy) + std::abs(yz)),
+                                    zz + std::abs(xz) + std::abs(yz));
+  // The deviator's eigenvalues d_i sum to 0, so max d_i^2 <= 2/3 sum d_i^2 = 2/3 |dev T|^2:
+  // sigma1 <= tr/3 + sqrt(2/3) |dev T| (equal for uniaxial stress).
+  const double mean = (xx + yy + zz) * (1.0 / 3.0);
+  const double a = xx - mean, b = yy - mean, c = zz - mean;
+  const double dev2 = a * a + b * b + c * c + 2.0 * (xy * xy + yz * yz + xz * xz);
+  const double deviatoric = mean + std::sqrt((2.0 / 3.0) * dev2);
+  return std::min(gershgorin, deviatoric);
+}
+
 
 /// What the element update (B.4)+(B.5) gives for one element at the grid's current x and v.
 struct ElementUpdate {
@@ -80,6 +101,11 @@ class ForceAssembler {
   /// (1 - Omega_old), at the current positions. Nodal sums are redone by gather(nodes).
   void scale_elastic(const Grid& grid, vtkIdType e, double factor);
 
+  /// After Grid::split_node(K, cells) made node B: the entries of `cells` (in cell order)
+  /// move from K to B, the blocks' connectivity follows, and the nodal forces of K and B are
+  /// re-summed: what rebuild() gives, bit for bit, at the cost of K's cells only.
+  void split_node(const Grid& grid, vtkIdType K, vtkIdType B, const std::vector<vtkIdType>& cells);
+
   /// Re-sums the nodal forces of the given nodes from the element buffer (same order as
   /// compute(), so the result is bitwise what a full gather gives).
   void gather(const std::vector<vtkIdType>& nodes);
@@ -91,7 +117,7 @@ class ForceAssembler {
   double viscous_power() const;
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper
-  /// bound of the largest principal value of T_el per element (Gershgorin), which also bounds
+  /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds
   /// every nodal average (2.10); viscous powers. The per-element arrays hold whole blocks:
   /// entries past the last cell are padding.
   Vec3 corner_force(vtkIdType e, int c) const { return Vec3(element_force_.data() + 12 * e + 3 * c); }
@@ -103,8 +129,10 @@ class ForceAssembler {
   void viscous_stress_power(vtkIdType e, double P_v[9]) const;
 
   /// Node -> (4 element + corner) entries, in cell order: node p owns
-  /// node_entries()[node_start()[p] .. node_start()[p + 1]).
+  /// node_entries()[node_start()[p] .. node_end()[p]). After splits the ranges are no longer
+  /// adjacent (a daughter's range is appended at the end).
   const std::vector<vtkIdType>& node_start() const { return node_start_; }
+  const std::vector<vtkIdType>& node_end() const { return node_end_; }
   const std::vector<std::int32_t>& node_entries() const { return node_entries_; }
 
  private:
@@ -128,7 +156,7 @@ class ForceAssembler {
   std::vector<double> block_power_;     // 1 per block: its elements' viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element
-  std::vector<vtkIdType> node_start_;     // CSR: node -> range in node_entries_
+  std::vector<vtkIdType> node_start_, node_end_;  // node -> range in node_entries_
   std::vector<std::int32_t> node_entries_; // 4 * element + corner (32 bits: less traffic)
 };
 

@@ -44,30 +44,42 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   std::vector<SplitCandidate> found;
   if (mode_ == FractureParams::Mode::none) return found;
   const bool straight = mode_ == FractureParams::Mode::straight;
-  const vtkIdType count = straight ? static_cast<vtkIdType>(plane_nodes_.size()) : grid.num_points();
-  const vtkIdType* start = forces.node_start().data();
+  const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
   const double *bound = forces.sigma1_bound(), *volume = forces.volumes(), *stress = grid.stress();
   const std::uint8_t* fixed = grid.fixed();
   // "sigma1 reaches sigma_c" up to round-off: a plate loaded to exactly sigma_c holds T_yy =
   // sigma_c to ~1e-15 everywhere, and that uniform state must not break every node at once.
   const double sigma_c = sigma_c_ * (1.0 + 1e-9);
+  // The average's largest principal value (and its normal component) is at most the largest
+  // bound of the node's elements: only corners of elements whose bound reaches sigma_c can
+  // split. Straight mode has its few plane nodes; elsewhere they are found from the elements.
+  if (!straight) {
+    const vtkIdType* cells = grid.cells();
+    hot_.assign(grid.num_points(), 0);
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+      if (bound[e] >= sigma_c)
+        for (int k = 0; k < 4; ++k) hot_[cells[4 * e + k]] = 1;
+    hot_nodes_.clear();
+    for (vtkIdType p = 0; p < grid.num_points(); ++p)
+      if (hot_[p]) hot_nodes_.push_back(p);
+  }
+  const std::vector<vtkIdType>& nodes = straight ? plane_nodes_ : hot_nodes_;
+  const vtkIdType count = static_cast<vtkIdType>(nodes.size());
 
 #pragma omp parallel
   {
     std::vector<SplitCandidate> mine;
 #pragma omp for schedule(static) nowait
     for (vtkIdType i = 0; i < count; ++i) {
-      const vtkIdType p = straight ? plane_nodes_[i] : i;
+      const vtkIdType p = nodes[i];
       if (fixed[p] || (!straight && !may_break(grid, p))) continue;
-      // The average's largest principal value (and its normal component) is at most the
-      // largest element bound: skip nodes that cannot reach sigma_c.
       double most = -std::numeric_limits<double>::infinity();
-      for (vtkIdType k = start[p]; k < start[p + 1]; ++k) most = std::max(most, bound[entries[k] / 4]);
+      for (vtkIdType k = start[p]; k < end[p]; ++k) most = std::max(most, bound[entries[k] / 4]);
       if (most < sigma_c) continue;
       // T_avg(K) = sum_I v_I T_el,I / sum_I v_I   (2.10)
       double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
-      for (vtkIdType k = start[p]; k < start[p + 1]; ++k) {
+      for (vtkIdType k = start[p]; k < end[p]; ++k) {
         const vtkIdType e = entries[k] / 4;
         for (int j = 0; j < 6; ++j) t[j] += volume[e] * stress[6 * e + j];
         v += volume[e];
@@ -80,6 +92,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
       if (straight) {
         c.sigma1 = T(1, 1);  // sigma1 = n . T_avg n, n = e_y   (6.7)
       } else {
+        if (principal_values_below(T, sigma_c)) continue;  // no eigen-solve needed
         Eigen::SelfAdjointEigenSolver<Mat3> eig;
         eig.computeDirect(T);
         c.sigma1 = eig.eigenvalues()[2];  // sigma1 >= sigma2 >= sigma3   (2.12)
@@ -104,7 +117,6 @@ std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements
     SplitRecord r;
     if (split_one(grid, elements, forces, c, r)) records.push_back(r);
   }
-  if (!records.empty()) forces.rebuild(grid);  // node table and nodal sums of the new topology
   return records;
 }
 
@@ -116,12 +128,12 @@ std::vector<SplitRecord> Fracture::split_nodes(Grid& grid, const ElementData& el
   return split(grid, elements, forces, over);
 }
 
-bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
+bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                          const SplitCandidate& c, SplitRecord& r) {
   const vtkIdType K = c.node;
   // Cells of K: the node table is from the start of the step; splits of other nodes in this
   // step only renamed *their* corners, so K's cells are still exactly these.
-  const vtkIdType* start = forces.node_start().data();
+  const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
   const double* x = grid.x();
   const vtkIdType* cells = grid.cells();
@@ -134,7 +146,7 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   };
   std::vector<Corner> around;
   int plus = 0;
-  for (vtkIdType k = start[K]; k < start[K + 1]; ++k) {
+  for (vtkIdType k = start[K]; k < end[K]; ++k) {
     const vtkIdType e = entries[k] / 4;
     Vec3 centroid = Vec3::Zero();
     for (int j = 0; j < 4; ++j) centroid += Vec3(x + 3 * cells[4 * e + j]);
@@ -190,6 +202,7 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, const ForceAss
   }
 
   r.b = grid.split_node(K, b_cells);  // appends B, rewires b_cells; views refreshed
+  forces.split_node(grid, K, r.b, b_cells);  // node table and nodal sums of K and B
   root_.push_back(root_[K]);
   grid.mass()[r.a] = r.m_a;
   grid.mass()[r.b] = r.m_b;

@@ -58,7 +58,7 @@ class Fracture {
   bool enabled() const { return mode_ != FractureParams::Mode::none; }
 
  private:
-  bool split_one(Grid& grid, const ElementData& elements, const ForceAssembler& forces,
+  bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);
 
   /// Inside fracture.region (or no region given): the node may break.
@@ -70,6 +70,8 @@ class Fracture {
   CohesiveLinks& links_;
   std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a
   std::vector<vtkIdType> root_;  // the original node every node descends from
+  mutable std::vector<std::uint8_t> hot_;     // scratch of candidates(): corner of a hot cell
+  mutable std::vector<vtkIdType> hot_nodes_;  // the nodes so marked, ascending
   long splits_ = 0;
   double crack_area_ = 0;
   double tip_x_, tip_y_;

@@ -53,6 +53,21 @@ inline Mat3 elastic_stress(const Mat3& F, double K, double mu, double Omega) {
   return elastic_stress(F, J, 1.0 / J, K, mu, Omega);
 }
 
+/// True when every principal value of the symmetric T is clearly below s (by more than
+/// 1e-12 |s|): s' I - T is positive definite, s' = s - 1e-12 |s|, by Sylvester's criterion
+/// (leading principal minors > 0). A few multiplications where an eigen-solve costs trig
+/// functions; used to skip the solve where its answer cannot reach s.
+inline bool principal_values_below(const Mat3& T, double s) {
+  const double c = s - 1e-12 * std::abs(s);
+  const double a = c - T(0, 0), d = c - T(1, 1), f = c - T(2, 2);
+  const double b = -T(0, 1), e = -T(1, 2), g = -T(0, 2);  // M = [[a b g] [b d e] [g e f]]
+  if (!(a > 0.0)) return false;
+  const double minor2 = a * d - b * b;
+  if (!(minor2 > 0.0)) return false;
+  const double det = a * (d * f - e * e) - b * (b * f - e * g) + g * (b * e - d * g);
+  return det > 0.0;
+}
+
 /// T_v = zeta1 rho0 c_p h_e tr(D) I + 2 zeta2 rho0 c_s h_e dev(D)   (B.5, SPEC 2)
 inline Mat3 viscous_stress(const Mat3& D, double eta_dil, double eta_dev) {
   const double trD = D.trace();

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Eigenvalues>
+
 #include "fixtures.hpp"
 
 namespace brittle {
@@ -87,6 +89,45 @@ TEST(Kernel, BlockedEqualsReferenceOnRandomDeformations) {
   EXPECT_EQ(compare_on_random_state(sim, rng, 0.01), 0);
   EXPECT_EQ(compare_on_random_state(sim, rng, 0.01), 0);
   EXPECT_GT(compare_on_random_state(sim, rng, 0.12), 0);
+}
+
+}  // namespace
+}  // namespace brittle
+
+namespace brittle {
+namespace {
+
+/// Random symmetric stresses around s: the two cheap tests that let the split scan and the
+/// damage update skip an eigen-solve never skip a stress whose sigma1 reaches s, and are not
+/// much weaker than the solve.
+TEST(Kernel, PrincipalStressShortcutsAgreeWithTheEigenSolve) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double s = 75e6;
+  int below = 0, skipped = 0, bound_tight = 0;
+  for (int i = 0; i < 200000; ++i) {
+    Mat3 T;
+    const double scale = (i % 2 ? 0.3 : 1.0) * s;  // mostly near s, some well below
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b) T(a, b) = T(b, a) = scale * unit(rng);
+    if (i % 3 == 0) T = Vec3(0, 0.99 * s, 0).asDiagonal();  // uniaxial, just below s
+    Eigen::SelfAdjointEigenSolver<Mat3> eig;
+    eig.computeDirect(T, Eigen::EigenvaluesOnly);
+    const double sigma1 = eig.eigenvalues()[2];
+    const double bound = sigma1_upper_bound(T(0, 0), T(1, 1), T(2, 2), T(0, 1), T(1, 2), T(0, 2));
+    ASSERT_GE(bound, sigma1 - 1e-9 * s) << T;
+    if (bound < 1.001 * sigma1 + 1e-9 * s) ++bound_tight;
+    const bool skip = principal_values_below(T, s);
+    if (skip) {
+      ++skipped;
+      ASSERT_LT(sigma1, s) << T;
+    }
+    if (sigma1 < (1 - 1e-9) * s) {
+      ++below;
+      ASSERT_TRUE(skip) << "sigma1 = " << sigma1 << " is below " << s << " but not skipped";
+    }
+  }
+  EXPECT_GT(bound_tight, 200000 / 3);  // at least the uniaxial ones are exact
 }
 
 }  // namespace
