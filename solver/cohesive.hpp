@@ -92,12 +92,15 @@ class CohesiveLinks {
   int substeps_needed(const Grid& grid, double dt) const;
   static constexpr int max_substeps = 256;
 
-  /// Kicks a by +f e and b by -f e over tau, e = (x_b - x_a) / delta (2.7), the creation
-  /// direction (2.9) while delta is round-off.
-  void kick(Grid& grid, double tau) const;
-
-  /// Moves every link's law to the current openings over a sub-step (advance_link).
-  void advance_law(const Grid& grid, double substep);
+  /// A kick over tau (2.7): a by +f e, b by -f e, e = (x_b - x_a) / delta, the creation
+  /// direction (2.9) while delta is round-off. In two halves: the velocity changes at the
+  /// current positions (prepare_kick, or advance_law_and_prepare_kick, which first moves
+  /// every link's law to the current openings over a sub-step, advance_link, in the same
+  /// pass), then their application (apply_kick, which may be repeated while positions and
+  /// law stand still).
+  void prepare_kick(const Grid& grid, double tau);
+  void advance_law_and_prepare_kick(const Grid& grid, double substep, double tau);
+  void apply_kick(Grid& grid) const;
 
   /// Remembers the openings at the start of an element step / sets the opening rates over
   /// it (used by substeps_needed the next step).
@@ -120,6 +123,7 @@ class CohesiveLinks {
   std::vector<std::uint8_t> linked_;
   std::vector<vtkIdType> linked_nodes_;
   std::vector<double> delta_start_;  // per link, at begin_step
+  std::vector<double> impulse_;      // per link: the prepared kick's dv of a (3) and b (3)
   double removed_dissipated_ = 0;
 };
 

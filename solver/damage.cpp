@@ -20,7 +20,8 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
   const vtkIdType blocks = (ne + kBlock - 1) / kBlock;
   block_sums_.assign(blocks, 0.0);
   block_cells_.resize(blocks);
-  const double* bound = forces.sigma1_bound();
+  const double *bound = forces.sigma1_bound(), *volume = forces.volumes(),
+               *alpha1 = forces.alpha1();
   double* Omega = grid.damage();
   const double threshold = params_.beta3 * sigma_c_, limit = params_.limit();
   const long now = ++step_index_;
@@ -47,8 +48,8 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
       }
       const double start_energy = undamaged_energy_[e];
       const bool had_start = evaluated_at_[e] == now - 1;
-      const double end_energy =
-          el.V0[e] * strain_energy_density(deformation_gradient(grid, el, e), K_, mu_, 0.0);
+      const double end_energy =  // at x(n+1), from the element loop's J and alpha1
+          el.V0[e] * strain_energy_density(volume[e] * el.inv_V0[e], alpha1[e], K_, mu_, 0.0);
       undamaged_energy_[e] = end_energy;
       evaluated_at_[e] = now;
       if (Omega_new == Omega[e]) continue;

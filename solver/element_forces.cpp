@@ -135,7 +135,8 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       viscous_power_(kLanes * blocks_.size(), 0.0),
       block_power_(blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
-      sigma1_bound_(kLanes * blocks_.size(), 0.0) {
+      sigma1_bound_(kLanes * blocks_.size(), 0.0),
+      alpha1_(kLanes * blocks_.size(), 3.0) {
   const vtkIdType ne = grid.num_cells();
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
@@ -262,6 +263,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
     Pass1 p;
     BlockOut r;
     double* power = vp + e0;
+    double* alpha1_out = alpha1_.data() + e0;
     double* vol_out = volume + e0;
     double* bound_out = bound + e0;
     double omega[W];
@@ -322,6 +324,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
       const double B00 = dot_rows(0, 0), B11 = dot_rows(1, 1), B22 = dot_rows(2, 2);
       const double B01 = dot_rows(0, 1), B12 = dot_rows(1, 2), B02 = dot_rows(0, 2);
       const double y = p.y[l], y2 = y * y, mu_J53 = mu * y2 * y2 * y;
+      alpha1_out[l] = y2 * (B00 + B11 + B22);  // J^(-2/3) tr B, for the energy (B.2)
       const double inv_J = 6.0 * B.V0[l] * p.inv_det[l];
       const double pressure = -K * (inv_J - 1.0) - mu_J53 * ((B00 + B11 + B22) * (1.0 / 3.0));
       const double intact = 1.0 - omega[l];

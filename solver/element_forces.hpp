@@ -124,6 +124,9 @@ class ForceAssembler {
   const double* volumes() const { return volume_.data(); }
   const double* viscous_powers() const { return viscous_power_.data(); }
   const double* sigma1_bound() const { return sigma1_bound_.data(); }
+  /// alpha1 = J^(-2/3) tr B of (B.2) per element at the last compute(): with J = volume / V0
+  /// it gives the strain energy without recomputing F.
+  const double* alpha1() const { return alpha1_.data(); }
 
   /// P_v of element e from the last compute(), as ElementUpdate::P_v (for tests).
   void viscous_stress_power(vtkIdType e, double P_v[9]) const;
@@ -156,6 +159,7 @@ class ForceAssembler {
   std::vector<double> block_power_;     // 1 per block: its elements' viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element
+  std::vector<double> alpha1_;          // 1 per element
   std::vector<vtkIdType> node_start_, node_end_;  // node -> range in node_entries_
   std::vector<std::int32_t> node_entries_; // 4 * element + corner (32 bits: less traffic)
 };

@@ -38,7 +38,7 @@ double strain_energy_density(const Mat3& F, double K, double mu, double Omega) {
   const double J = F.determinant();
   const double y = inverse_cbrt(J);  // J^(-1/3) without pow()
   const double alpha1 = y * y * (F * F.transpose()).trace();
-  return (1.0 - Omega) * (K * ((J - 1.0) - std::log(J)) + 0.5 * mu * (alpha1 - 3.0));
+  return strain_energy_density(J, alpha1, K, mu, Omega);
 }
 
 UniaxialStretch uniaxial_prestress(double sigma, double K, double mu) {

@@ -26,6 +26,10 @@ double rayleigh_speed(double c_p, double c_s);
 
 /// rho0 Sigma = (1-Omega) [K((J-1) - ln J) + mu/2 (alpha1 - 3)],  alpha1 = J^(-2/3) tr B   (B.2)
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
+/// The same from the invariants J and alpha1 (the element loop stores alpha1).
+inline double strain_energy_density(double J, double alpha1, double K, double mu, double Omega) {
+  return (1.0 - Omega) * (K * ((J - 1.0) - std::log(J)) + 0.5 * mu * (alpha1 - 3.0));
+}
 
 /// J^(-1/3). Near J = 1 (every element but those at a crack tip) by Newton's iteration
 /// y <- y (4 - J y^3) / 3 from the linearisation, with no division: three iterations reach
