@@ -15,7 +15,7 @@ Damage::Damage(const DamageParams& params, const ElasticConstants& c, double sig
 }
 
 double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces, double dt) {
-  constexpr vtkIdType kBlock = 4096;
+  constexpr vtkIdType kBlock = 512;  // damage gathers near the crack: small blocks, dynamic
   const vtkIdType ne = grid.num_cells();
   const vtkIdType blocks = (ne + kBlock - 1) / kBlock;
   block_sums_.assign(blocks, 0.0);
@@ -26,7 +26,7 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
   const double threshold = params_.beta3 * sigma_c_, limit = params_.limit();
   const long now = ++step_index_;
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic)
   for (vtkIdType b = 0; b < blocks; ++b) {
     double dissipated = 0.0;
     std::vector<vtkIdType>& changed = block_cells_[b];

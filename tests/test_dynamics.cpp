@@ -156,6 +156,40 @@ TEST(Dynamics, ResultsIndependentOfThreadCount) {
   EXPECT_EQ(energy[0], energy[1]);  // the energy rows too, bit for bit
 }
 
+// The same with every mechanism of a branching run: splits (node table updated in place),
+// rate-dependent links with their sub-steps, damage (blocks taken dynamically by the threads).
+TEST(Dynamics, BranchingRunIndependentOfThreadCount) {
+  Scene s = plate_scene(0.9, 10e-6, FractureParams::Mode::branching);
+  s.damage = testing::paper_damage();
+  s.fracture.alpha = testing::kPaperAlpha;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  std::vector<std::vector<double>> state, energy;
+  std::vector<long> splits;
+  for (int threads : {1, 2}) {
+    s.run.threads = threads;
+    Simulation sim(s, *mesh);
+    EnergyLog log;
+    sim.run({&log});
+    energy.emplace_back();
+    for (const Energies& e : log.rows)
+      energy.back().insert(energy.back().end(),
+                           {e.kinetic, e.elastic, e.viscous_dissipated, e.cohesive_stored,
+                            e.cohesive_dissipated, e.damage_dissipated});
+    const Grid& g = sim.grid();
+    state.emplace_back(g.x(), g.x() + 3 * g.num_points());
+    state.back().insert(state.back().end(), g.v(), g.v() + 3 * g.num_points());
+    state.back().insert(state.back().end(), g.stress(), g.stress() + 6 * g.num_cells());
+    state.back().insert(state.back().end(), g.damage(), g.damage() + g.num_cells());
+    splits.push_back(sim.fracture().splits());
+  }
+  EXPECT_GT(splits[0], 20);
+  EXPECT_EQ(splits[0], splits[1]);
+  ASSERT_EQ(state[0].size(), state[1].size());
+  EXPECT_EQ(std::memcmp(state[0].data(), state[1].data(), state[0].size() * sizeof(double)), 0);
+  EXPECT_EQ(energy[0], energy[1]);
+  EXPECT_GT(energy[0].back(), 0.0);  // damage dissipated something
+}
+
 // A NaN in the state stops the run with a clear error instead of writing garbage.
 TEST(Dynamics, BlowUpIsReported) {
   Scene s = plate_scene(0.5, 1e-6);
