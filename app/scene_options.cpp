@@ -3,6 +3,7 @@
 // the options_description, the `--help` text and the validation are all built from it.
 #include "scene_options.hpp"
 
+#include <cstdio>
 #include <algorithm>
 #include <array>
 #include <boost/program_options.hpp>
@@ -234,6 +235,10 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("mesh.layers", &Scene::mesh, &MeP::layers, "",
                       "element layers through the thickness", ">= 1",
                       [](const int& v) { return v >= 1; }));
+    k.push_back(field("mesh.max_elements", &Scene::mesh, &MeP::max_elements, "",
+                      "refuse a generated plate estimated to have more tets than this (about "
+                      "0.7 kB each)",
+                      "> 0", positive));
     // [loading] — exactly one of the two; a later source's choice clears the earlier one
     k.push_back(typed<double>("loading.sigma_over_sigmac", "",
                               "uniaxial pre-stress along y as a fraction of sigma_c",
@@ -332,8 +337,8 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("run.cfl", &Scene::run, &RP::cfl, "", "fraction of the stable time step",
                       "0 < cfl <= 1", [](const double& v) { return v > 0 && v <= 1; }));
     k.push_back(field("run.threads", &Scene::run, &RP::threads, "",
-                      "OpenMP threads (0 = all cores)", ">= 0",
-                      [](const int& v) { return v >= 0; }));
+                      "OpenMP threads (0 = all cores)", "0 <= threads <= 1024",
+                      [](const int& v) { return v >= 0 && v <= 1024; }));
     // [output]
     k.push_back(
         typed<std::string>("output.directory", "", "where frames, CSV files and the summary go",
@@ -878,6 +883,39 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                 ": load sigma = ", format_double(sigma),
                 " Pa is out of range (expected < 3K = E/(1-2nu) = ", format_double(three_K),
                 " Pa, else the uniaxial pre-stress has no solution)");
+
+  // Guards: inputs that are each allowed but together would take the machine down.
+  auto approx = [](double v) {  // 3 significant digits for estimates
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return std::string(text);
+  };
+  if (s.mesh.file.empty()) {
+    const double tets = estimated_tets(g, s.mesh);
+    BRITTLE_CHECK(tets <= s.mesh.max_elements,
+                  o.latest({"mesh.size", "mesh.band", "mesh.band_size", "mesh.layers",
+                            "geometry.L", "geometry.H", "mesh.max_elements"}),
+                  ": the generated plate would have about ", approx(tets),
+                  " tets (geometry.L x H = ", format_double(g.L), " x ", format_double(g.H),
+                  " m, mesh.size = ", format_double(s.mesh.size), " m, mesh.layers = ",
+                  s.mesh.layers, "), more than mesh.max_elements = ",
+                  format_double(s.mesh.max_elements),
+                  " (expected fewer; about 0.7 kB of memory per tet: raise mesh.max_elements if "
+                  "the machine has it)");
+  }
+  constexpr double kMaxEnergyRows = 1e7, kMaxFrames = 1e5;
+  const double rows = s.run.end_time / s.output.energy_interval;
+  BRITTLE_CHECK(rows <= kMaxEnergyRows, o.latest({"output.energy_interval", "run.end_time"}),
+                ": output.energy_interval = ", format_double(s.output.energy_interval),
+                " s gives ", approx(rows), " energy rows over run.end_time = ",
+                format_double(s.run.end_time), " s (expected at most ",
+                format_double(kMaxEnergyRows), ")");
+  const double frames = s.output.frame_interval > 0 ? s.run.end_time / s.output.frame_interval : 0;
+  BRITTLE_CHECK(frames <= kMaxFrames, o.latest({"output.frame_interval", "run.end_time"}),
+                ": output.frame_interval = ", format_double(s.output.frame_interval), " s gives ",
+                approx(frames), " frames over run.end_time = ",
+                format_double(s.run.end_time), " s (expected at most ",
+                format_double(kMaxFrames), ")");
 
   const DamageParams& d = s.damage;
   BRITTLE_CHECK(d.v_inf < d.v_R, o.latest({"damage.v_inf", "damage.v_R"}),

@@ -50,6 +50,9 @@ constexpr long kTimeStepCheckInterval = 20;
 constexpr double kReductionTrigger = 0.1;
 /// dt may fall to this fraction of the initial step before the run stops.
 constexpr double kSmallestStepFraction = 0.05;
+/// More steps than this are refused at the start: at 20 M tet-updates/s a 45 k-tet run of that
+/// length takes 2.6 days (docs/scenes.md, guards).
+constexpr double kMaxSteps = 1e8;
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
@@ -84,9 +87,19 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   }
 
   const StableStep stable = stable_time_step(grid_, elements_, constants_, scene.run.cfl);
-  BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt), "initial state: element ",
-                stable.element, " gives no stable time step (altitude ", stable.altitude, " m)");
+  BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt), "initial state: no stable time step (dt = ",
+                stable.dt, " s, element ", stable.element, ", altitude ", stable.altitude,
+                " m, damping ratio ", stable.xi, ") with run.cfl = ", scene.run.cfl,
+                ", material.zeta1 = ", scene.material.zeta1, ", material.zeta2 = ",
+                scene.material.zeta2, " (expected viscosities that leave a positive step)");
   dt_ = initial_dt_ = stable.dt;
+  // A step count that no run finishes (cfl or a huge viscosity giving dt near 0) is refused
+  // here, before any stepping, rather than run "forever".
+  const double steps = scene.run.end_time / dt_;
+  BRITTLE_CHECK(steps <= kMaxSteps, "run.end_time = ", scene.run.end_time, " s at dt = ", dt_,
+                " s (run.cfl = ", scene.run.cfl, ", element ", stable.element, ", damping ratio ",
+                stable.xi, ") needs ", steps, " steps, more than ", kMaxSteps,
+                " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
   const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
 }

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -449,7 +450,8 @@ TEST(LoadSceneErrors, OutOfRange) {
       {"run", "end_time", "0", "> 0"},
       {"run", "cfl", "0", "0 < cfl <= 1"},
       {"run", "cfl", "1.01", "0 < cfl <= 1"},
-      {"run", "threads", "-1", ">= 0"},
+      {"run", "threads", "-1", "0 <= threads <= 1024"},
+      {"run", "threads", "1025", "0 <= threads <= 1024"},
       {"output", "frame_interval", "-1e-6", ">= 0"},
       {"output", "energy_interval", "0", "> 0"},
       {"output", "directory", "", "not empty"},
@@ -829,3 +831,52 @@ TEST(RunErrors, BadRegionsExitTwoWithOneLine) {
       << r.err;
 }
 }  // namespace
+
+// Guards (issue 12): values that are each allowed but would hang a run or take the machine down
+// (a mesh of 1e15 tets, rows every 1e-300 s, dt near 0) are refused before meshing or stepping:
+// exit 2, one line naming the key, within a second (release build).
+TEST(Executable, GuardsRefuseAtOnce) {
+  TempDir dir;
+  struct Case {
+    std::string text;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {"[mesh]\nsize = 1e-9\n", {"mesh.size = 1e-09", "mesh.max_elements"}},
+      {"[mesh]\nlayers = 100000\n", {"mesh.layers = 100000", "mesh.max_elements"}},
+      {"[geometry]\nH = 1e3\n", {"geometry.L x H", "mesh.max_elements"}},
+      {"[output]\nenergy_interval = 1e-300\n", {"output.energy_interval", "energy rows"}},
+      {"[output]\nframe_interval = 1e-12\n", {"output.frame_interval", "frames"}},
+      {"[output]\nframe_interval = 1e-300\n", {"output.frame_interval", "frames"}},
+      {"[run]\nthreads = 2147483647\n", {"run.threads", "1024"}},
+      {"[run]\ncfl = 1e-300\n", {"run.cfl", "steps"}},
+      {"[material]\nzeta2 = 1e300\n", {"material.zeta2", "stable time step"}},
+  };
+  for (const Case& c : cases) {
+    const std::string file = dir.write("guard.ini", std::string(kLoad) + c.text);
+    const fs::path out = dir / "out";
+    const auto start = std::chrono::steady_clock::now();
+    const Result r = run_brittle(dir, {"run", file, "--out", out.string()});
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 2) << c.text << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not exactly one line: " << r.err;
+    for (const auto& p : c.parts) EXPECT_TRUE(contains(r.err, p)) << "'" << p << "' not in " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.text << "left an output directory";
+#ifndef __SANITIZE_ADDRESS__
+    EXPECT_LT(seconds, 1.0) << c.text;
+#endif
+  }
+}
+
+// The estimate behind mesh.max_elements is close to what Gmsh makes (docs/scenes.md).
+TEST(LoadScene, ElementEstimateIsCloseToTheMesh) {
+  Scene cm;  // the paper's plate: 14,676 tets
+  EXPECT_NEAR(estimated_tets(cm.geometry, cm.mesh) / 14676, 1.0, 0.05);
+  Scene rm = cm;  // RM: 44,652 tets
+  rm.mesh.band = 1e-3, rm.mesh.band_size = 250e-6, rm.mesh.layers = 2;
+  EXPECT_NEAR(estimated_tets(rm.geometry, rm.mesh) / 44652, 1.0, 0.07);
+  Scene fine = cm;  // docs/performance.md's largest plate: 1,776,150 tets
+  fine.mesh.size = 100e-6, fine.mesh.layers = 5;
+  EXPECT_NEAR(estimated_tets(fine.geometry, fine.mesh) / 1776150, 1.0, 0.01);
+}
