@@ -110,6 +110,8 @@ int run_command(const std::vector<std::string>& args) {
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out), "output directory (overrides output.directory)")(
       "profile", "print the wall time of each phase of the step (also in summary.json)")(
+      "dry-run", "mesh and check the scene, print counts, dt, steps, frames and estimates of "
+                 "memory, disk and time; write nothing")(
       "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
   auto vm = brittle::parse_command_line(args, opts, "scene");
   po::notify(vm);
@@ -123,6 +125,10 @@ int run_command(const std::vector<std::string>& args) {
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
+  if (vm.count("dry-run")) {
+    brittle::dry_run(scene, std::cout);
+    return 0;
+  }
   Progress progress(vm.count("profile") > 0);
   const brittle::RunSummary summary = brittle::run_scene(scene, {&progress});
   std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";

@@ -2,6 +2,8 @@
 // through its child `brittle run` processes, sweep).
 #pragma once
 
+#include <ostream>
+
 #include <vector>
 
 #include "scene.hpp"
@@ -15,5 +17,10 @@ namespace brittle {
 /// them. Returns the summary; a run that fails throws brittle::Error after every observer has
 /// had on_finish (summary.json then says why).
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {});
+
+/// `brittle run --dry-run`: meshes the scene and sets up the Simulation (so every check and
+/// guard applies), then prints tets, nodes, dt, steps, frames, energy rows and estimates of
+/// memory, disk and wall time to `out`. Writes no file.
+void dry_run(Scene scene, std::ostream& out);
 
 }  // namespace brittle

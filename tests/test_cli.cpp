@@ -880,3 +880,20 @@ TEST(LoadScene, ElementEstimateIsCloseToTheMesh) {
   fine.mesh.size = 100e-6, fine.mesh.layers = 5;
   EXPECT_NEAR(estimated_tets(fine.geometry, fine.mesh) / 1776150, 1.0, 0.01);
 }
+
+// brittle run --dry-run: the counts and estimates of a scene, and nothing written.
+TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
+  TempDir dir;
+  const std::string file = dir.write("plate.ini", std::string(kLoad) + "[run]\nend_time = 2e-6\n");
+  const fs::path out = dir / "out";
+  const Result r = run_brittle(dir, {"run", file, "--dry-run", "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* part : {"14676 tets", "5102 nodes", "steps to 2e-06 s", "frames", "energy rows",
+                           "memory", "disk", "wall"})
+    EXPECT_TRUE(contains(r.out, part)) << "'" << part << "' not in " << r.out;
+  EXPECT_FALSE(fs::exists(out)) << "a dry run wrote " << out;
+  // The guards apply to a dry run too.
+  const Result big = run_brittle(dir, {"run", file, "--dry-run", "--set", "mesh.size=1e-9"});
+  EXPECT_EQ(big.exit_code, 2);
+  EXPECT_TRUE(contains(big.err, "mesh.max_elements")) << big.err;
+}
