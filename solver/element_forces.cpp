@@ -131,7 +131,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
     : K_(c.K),
       mu_(c.mu),
       blocks_((grid.num_cells() + kLanes - 1) / kLanes),
-      element_force_(12 * kLanes * blocks_.size(), 0.0),
+      element_force_(12 * grid.num_cells(), 0.0),
       viscous_power_(kLanes * blocks_.size(), 0.0),
       block_power_(blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
@@ -141,8 +141,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
     for (int l = 0; l < kLanes; ++l) {
-      const vtkIdType i = static_cast<vtkIdType>(b) * kLanes + l;
-      const vtkIdType e = i < ne ? i : static_cast<vtkIdType>(b) * kLanes;  // padding: lane 0
+      const vtkIdType e = lane_cell(static_cast<vtkIdType>(b), l, ne);
       for (int k = 0; k < 9; ++k) B.Dm_inv[k][l] = el.Dm_inv[9 * e + k];
       B.V0[l] = el.V0[e];
       B.inv_V0[l] = el.inv_V0[e];
@@ -163,8 +162,7 @@ void ForceAssembler::load_connectivity(const Grid& grid) {
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
     for (int l = 0; l < kLanes; ++l) {
-      const vtkIdType i = static_cast<vtkIdType>(b) * kLanes + l;
-      const vtkIdType e = i < ne ? i : static_cast<vtkIdType>(b) * kLanes;
+      const vtkIdType e = lane_cell(static_cast<vtkIdType>(b), l, ne);
       for (int k = 0; k < 4; ++k) B.node[k][l] = static_cast<std::int32_t>(cells[4 * e + k]);
     }
   }
@@ -201,13 +199,10 @@ void ForceAssembler::split_node(const Grid& grid, vtkIdType K, vtkIdType B,
     const std::int32_t entry = node_entries_[k];
     if (std::binary_search(cells.begin(), cells.end(), static_cast<vtkIdType>(entry / 4))) {
       node_entries_.push_back(entry);
-      Block& blk = blocks_[entry / 4 / kLanes];
-      const int lane = entry / 4 % kLanes;
-      blk.node[entry % 4][lane] = static_cast<std::int32_t>(B);
-      if (lane == 0)  // padding lanes of a last, partly filled block repeat lane 0
-        for (int l = 1; l < kLanes; ++l)
-          if (static_cast<vtkIdType>(entry / 4 / kLanes) * kLanes + l >= grid.num_cells())
-            blk.node[entry % 4][l] = static_cast<std::int32_t>(B);
+      const vtkIdType cell = entry / 4, block = cell / kLanes;
+      for (int l = 0; l < kLanes; ++l)  // the cell's lane, and padding lanes that repeat it
+        if (lane_cell(block, l, grid.num_cells()) == cell)
+          blocks_[block].node[entry % 4][l] = static_cast<std::int32_t>(B);
     } else {
       node_entries_[keep++] = entry;
     }

@@ -118,8 +118,8 @@ class ForceAssembler {
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper
   /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds
-  /// every nodal average (2.10); viscous powers. The per-element arrays hold whole blocks:
-  /// entries past the last cell are padding.
+  /// every nodal average (2.10); viscous powers. These per-element arrays hold whole blocks
+  /// (the element loop writes them lane by lane): entries past the last cell are padding.
   Vec3 corner_force(vtkIdType e, int c) const { return Vec3(element_force_.data() + 12 * e + 3 * c); }
   const double* volumes() const { return volume_.data(); }
   const double* viscous_powers() const { return viscous_power_.data(); }
@@ -141,6 +141,12 @@ class ForceAssembler {
  private:
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);
+  /// The cell in lane l of block b: b kLanes + l, or for a padding lane past the last cell
+  /// (ne cells) the block's first cell.
+  static vtkIdType lane_cell(vtkIdType b, int l, vtkIdType ne) {
+    const vtkIdType e = b * kLanes + l;
+    return e < ne ? e : b * kLanes;
+  }
 
   /// kLanes consecutive cells: their corner nodes and constants, lane-minor. Lanes past the
   /// last cell repeat lane 0 of the block (computed, never written out).

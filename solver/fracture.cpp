@@ -74,9 +74,11 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
     for (vtkIdType i = 0; i < count; ++i) {
       const vtkIdType p = nodes[i];
       if (fixed[p] || (!straight && !may_break(grid, p))) continue;
-      double most = -std::numeric_limits<double>::infinity();
-      for (vtkIdType k = start[p]; k < end[p]; ++k) most = std::max(most, bound[entries[k] / 4]);
-      if (most < sigma_c) continue;
+      if (straight) {  // (hot nodes passed this filter by construction)
+        double most = -std::numeric_limits<double>::infinity();
+        for (vtkIdType k = start[p]; k < end[p]; ++k) most = std::max(most, bound[entries[k] / 4]);
+        if (most < sigma_c) continue;
+      }
       // T_avg(K) = sum_I v_I T_el,I / sum_I v_I   (2.10)
       double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
       for (vtkIdType k = start[p]; k < end[p]; ++k) {
