@@ -1,9 +1,12 @@
 // brittle: command line entry point. Parses the scene, builds the simulation, attaches the
 // writers, runs, and maps errors to a one-line message and a non-zero exit code.
+#include <signal.h>
 #include <unistd.h>
 #include <vtkObject.h>
 
+#include <atomic>
 #include <boost/program_options.hpp>
+#include <csignal>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -102,6 +105,38 @@ class Progress : public brittle::Observer {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
+/// SIGINT/SIGTERM: the first asks the run to stop after its step (checkpoint, last frame,
+/// summary "interrupted"); a second one ends the process at once.
+std::atomic<int> stop_signal{0};
+
+/// The end of `brittle run`: what was written, and for a stopped run how to go on; exit code
+/// 128 + the signal (130 SIGINT, 143 SIGTERM) for a stopped run, else 0.
+int finish_run(const brittle::RunSummary& summary, const std::string& directory) {
+  std::cout << "wrote " << directory << " (" << summary.status << ")\n";
+  if (summary.status != "interrupted") return 0;
+  std::cerr << "brittle: stopped at t = " << summary.time << " s (step " << summary.steps
+            << "); checkpoint " << summary.checkpoint << "; continue with: brittle run --resume "
+            << directory << "\n";
+  return 128 + stop_signal.load();
+}
+
+
+extern "C" void on_stop_signal(int sig) {
+  if (stop_signal.exchange(sig) != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
+
+void install_stop_handlers() {
+  static_assert(std::atomic<int>::is_always_lock_free);  // safe in a signal handler
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 int run_command(const std::vector<std::string>& args) {
   po::options_description opts("brittle run options");
   std::vector<std::string> files, sets;
@@ -112,6 +147,9 @@ int run_command(const std::vector<std::string>& args) {
       "profile", "print the wall time of each phase of the step (also in summary.json)")(
       "dry-run", "mesh and check the scene, print counts, dt, steps, frames and estimates of "
                  "memory, disk and time; write nothing")(
+      "resume", po::value<std::string>(),
+      "continue the run in DIR from DIR/checkpoint.bin (with --set run.end_time=T to extend "
+      "it); no scene files")(
       "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
   auto vm = brittle::parse_command_line(args, opts, "scene");
   po::notify(vm);
@@ -119,6 +157,15 @@ int run_command(const std::vector<std::string>& args) {
     std::cout << kUsage << "\n" << opts << "\nScene keys (INI sections [section], key = value):\n";
     brittle::print_scene_keys(std::cout);
     return 0;
+  }
+  Progress progress(vm.count("profile") > 0);
+  if (vm.count("resume")) {
+    const std::string dir = vm["resume"].as<std::string>();
+    BRITTLE_CHECK(files.empty() && out.empty() && !vm.count("dry-run"), "brittle run --resume ",
+                  dir, ": scene files, --out and --dry-run do not go with --resume (the scene is "
+                  "the checkpoint's; expected only --set run.end_time=T / run.threads=N)");
+    install_stop_handlers();
+    return finish_run(brittle::resume_run(dir, sets, {&progress}, &stop_signal), dir);
   }
   BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (",
                 "usage: brittle run "
@@ -129,10 +176,8 @@ int run_command(const std::vector<std::string>& args) {
     brittle::dry_run(scene, std::cout);
     return 0;
   }
-  Progress progress(vm.count("profile") > 0);
-  const brittle::RunSummary summary = brittle::run_scene(scene, {&progress});
-  std::cout << "wrote " << scene.output.directory << " (" << summary.status << ")\n";
-  return 0;
+  install_stop_handlers();
+  return finish_run(brittle::run_scene(scene, {&progress}, &stop_signal), scene.output.directory);
 }
 
 }  // namespace

@@ -5,16 +5,22 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "checkpoint.hpp"
+#include "error.hpp"
 #include "output.hpp"
+#include "scene_options.hpp"
 #include "plate_mesh.hpp"
 #include "render_commands.hpp"
 
 namespace brittle {
 
-RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra) {
-  add_render_times_to_frames(scene);  // [render] times are frames too
-  auto mesh = make_mesh(scene);
-  Simulation sim(scene, *mesh);
+namespace {
+
+/// The writers, the renderer and `extra` around a built (or restored) simulation; runs it.
+RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
+                          const std::atomic<int>* stop) {
+  const Scene& scene = sim.scene();
+  sim.set_stop_flag(stop);
   std::filesystem::create_directories(scene.output.directory);
   OutputWriters writers(sim);
   std::vector<Observer*> observers = writers.observers();
@@ -22,6 +28,40 @@ RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra) {
   if (renderer) observers.push_back(renderer.get());
   observers.insert(observers.end(), extra.begin(), extra.end());
   return sim.run(observers);
+}
+
+}  // namespace
+
+RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
+                     const std::atomic<int>* stop) {
+  add_render_times_to_frames(scene);  // [render] times are frames too
+  auto mesh = make_mesh(scene);
+  Simulation sim(scene, *mesh);
+  return run_simulation(sim, extra, stop);
+}
+
+RunSummary resume_run(const std::string& directory, const std::vector<std::string>& overrides,
+                      const std::vector<Observer*>& extra, const std::atomic<int>* stop) {
+  const std::string path = checkpoint_path(directory);
+  const CheckpointHeader header = read_checkpoint_header(path);
+  for (const std::string& o : overrides) {
+    const std::string key = o.substr(0, o.find('='));
+    BRITTLE_CHECK(key == "run.end_time" || key == "run.threads" ||
+                      key == "output.checkpoint_interval",
+                  "--resume: --set ", o, " changes the run (expected only run.end_time, "
+                  "run.threads or output.checkpoint_interval; other keys stay the checkpoint's)");
+  }
+  std::vector<std::string> files, sets;
+  for (const std::string& s : header.sources)
+    (s.starts_with("--set ") ? sets : files).push_back(s.starts_with("--set ") ? s.substr(6) : s);
+  sets.insert(sets.end(), overrides.begin(), overrides.end());
+  Scene scene = load_scene(files, sets);
+  scene.output.directory = directory;
+  add_render_times_to_frames(scene);
+  auto mesh = make_mesh(scene);
+  Simulation sim(scene, *mesh);
+  restore_checkpoint(sim, path);
+  return run_simulation(sim, extra, stop);
 }
 
 void dry_run(Scene scene, std::ostream& out) {

@@ -2,7 +2,9 @@
 // through its child `brittle run` processes, sweep).
 #pragma once
 
+#include <atomic>
 #include <ostream>
+#include <string>
 
 #include <vector>
 
@@ -16,7 +18,18 @@ namespace brittle {
 /// render.times is set (its times become frames too), and runs with `extra` observers after
 /// them. Returns the summary; a run that fails throws brittle::Error after every observer has
 /// had on_finish (summary.json then says why).
-RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {});
+/// With `stop`, the run polls it after every step (Simulation::set_stop_flag): status
+/// "interrupted", a checkpoint and a last frame when it turns non-zero.
+RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {},
+                     const std::atomic<int>* stop = nullptr);
+
+/// `brittle run --resume DIR`: the scene from the checkpoint's sources (files re-read, --set
+/// replayed) plus `overrides`, which may only set run.end_time, run.threads and
+/// output.checkpoint_interval; the mesh and Simulation as run_scene, then the state of
+/// DIR/checkpoint.bin, and the run goes on into DIR (docs/checkpoint.md).
+RunSummary resume_run(const std::string& directory, const std::vector<std::string>& overrides,
+                      const std::vector<Observer*>& extra = {},
+                      const std::atomic<int>* stop = nullptr);
 
 /// `brittle run --dry-run`: meshes the scene and sets up the Simulation (so every check and
 /// guard applies), then prints tets, nodes, dt, steps, frames, energy rows and estimates of

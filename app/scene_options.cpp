@@ -364,6 +364,10 @@ const std::vector<Key>& scene_keys() {
                       "warn once when the energy budget is off by more than this fraction of "
                       "the initial energy",
                       "> 0", positive));
+    k.push_back(field("output.checkpoint_interval", &Scene::output, &OP::checkpoint_interval, "s",
+                      "write checkpoint.bin (the whole state, for brittle run --resume) every this "
+                      "much simulated time and at the end (0 = only when the run is stopped)",
+                      ">= 0", non_negative));
     // [render] — PNG frames through off-screen VTK (docs/rendering.md)
     k.push_back(time_list("render.times",
                           "render PNG frames during the run at these times (also written as VTU)",

@@ -77,6 +77,10 @@ class Boundary {
   /// One line per boundary: name, type, nodes (faces), for the run log.
   const std::vector<std::string>& description() const { return description_; }
 
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
+
  private:
   struct Constrained {  // one node of one velocity / fixed boundary
     vtkIdType node;

@@ -38,6 +38,9 @@ struct CohesiveLink {
   double opening_rate = 0;  ///< |change of delta| / dt over the last element step
   std::vector<CrackFace> faces;
 
+  template <class Archive>
+  void state(Archive& ar);  // checkpoint.cpp
+
   /// Stored energy V_c = f delta / 2 (3.1).
   double stored() const { return 0.5 * f * delta; }
   bool broken() const { return omega >= 1.0; }
@@ -113,6 +116,10 @@ class CohesiveLinks {
 
   double stored_energy() const;      ///< sum of V_c over live links (3.1)
   double dissipated_energy() const;  ///< integral of D_c, removed links included (3.3)
+
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
 
  private:
   void refresh_linked(vtkIdType num_points);

@@ -44,6 +44,10 @@ class Damage {
   /// cells: independent of the thread count.
   double update(Grid& grid, const ElementData& elements, ForceAssembler& forces, double dt);
 
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
+
  private:
   DamageParams params_;
   double K_, mu_, sigma_c_;

@@ -138,6 +138,10 @@ class ForceAssembler {
   const std::vector<vtkIdType>& node_end() const { return node_end_; }
   const std::vector<std::int32_t>& node_entries() const { return node_entries_; }
 
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
+
  private:
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);

@@ -57,6 +57,10 @@ class Fracture {
   double tip_y() const { return tip_y_; }
   bool enabled() const { return mode_ != FractureParams::Mode::none; }
 
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
+
  private:
   bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);

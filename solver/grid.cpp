@@ -133,9 +133,17 @@ void Grid::update_displacement() {
 }
 
 void Grid::mark_modified() {
+  // Every array, not only its container: VTK caches each array's range (written into VTU
+  // headers as RangeMin/RangeMax) until the array itself is marked modified.
+  grid_->GetPoints()->GetData()->Modified();
   grid_->GetPoints()->Modified();
-  grid_->GetPointData()->Modified();
-  grid_->GetCellData()->Modified();
+  for (vtkFieldData* data : {static_cast<vtkFieldData*>(grid_->GetPointData()),
+                             static_cast<vtkFieldData*>(grid_->GetCellData()),
+                             grid_->GetFieldData()}) {
+    for (int i = 0; i < data->GetNumberOfArrays(); ++i)
+      if (vtkAbstractArray* a = data->GetAbstractArray(i)) a->Modified();
+    data->Modified();
+  }
   grid_->Modified();
 }
 

@@ -62,6 +62,10 @@ class Grid {
   /// Marks the grid modified for VTK pipelines (writers, renderers) after a step.
   void mark_modified();
 
+  /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
+  template <class Archive>
+  void state(Archive& ar);
+
  private:
   vtkSmartPointer<vtkUnstructuredGrid> grid_;
   vtkIdType num_points_ = 0, num_cells_ = 0;

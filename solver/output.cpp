@@ -50,6 +50,22 @@ void PvdCollection::add(double time, const std::string& relative_file) {
   write_file_atomically(path_, pvd.str());
 }
 
+void PvdCollection::resume(std::size_t keep) {
+  entries_.clear();
+  if (keep == 0) {  // an empty collection is written by the first add()
+    std::error_code ec;
+    fs::remove(path_, ec);
+    return;
+  }
+  const fs::path base = fs::path(path_).parent_path();
+  std::vector<PvdEntry> old = read_pvd(path_);
+  BRITTLE_CHECK(old.size() >= keep, "resume: '", path_, "' lists ", old.size(),
+                " files, the checkpoint was taken after ", keep);
+  for (std::size_t i = 0; i + 1 < keep; ++i)
+    entries_.emplace_back(old[i].time, fs::path(old[i].file).lexically_relative(base).string());
+  add(old[keep - 1].time, fs::path(old[keep - 1].file).lexically_relative(base).string());
+}
+
 namespace {
 
 /// Writes a VTK XML file through a temporary name (binary, appended, zlib).
@@ -117,6 +133,23 @@ void VtuSeriesWriter::on_frame(const Simulation& sim) {
   link_series_.add(sim.time(), link_file);
 }
 
+void VtuSeriesWriter::on_resume(const Simulation& sim) {
+  const long keep = sim.progress().frames_written;
+  grid_series_.resume(keep);
+  if (sim.fracture().enabled()) link_series_.resume(keep);
+  frames_ = static_cast<int>(keep);
+  // Frames numbered from `keep` on were written by the stopped run after its checkpoint.
+  for (const auto& entry : fs::directory_iterator(directory_ + "/frames")) {
+    const std::string name = entry.path().filename().string();
+    const bool ours = (name.starts_with("frame_") && name.ends_with(".vtu")) ||
+                      (name.starts_with("links_") && name.ends_with(".vtp"));
+    if (!ours) continue;
+    const std::string digits = name.substr(6, name.size() - 10);
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (std::stol(digits) >= keep) fs::remove(entry.path());
+  }
+}
+
 std::vector<PvdEntry> read_pvd(const std::string& path) {
   BRITTLE_CHECK(fs::is_regular_file(path), "time series '", path, "': no such file");
   vtkSmartPointer<vtkXMLDataElement> root;
@@ -139,11 +172,35 @@ std::vector<PvdEntry> read_pvd(const std::string& path) {
   return entries;
 }
 
-EnergyCsvWriter::EnergyCsvWriter(const std::string& directory)
-    : out_(directory + "/energies.csv", std::ios::trunc) {
-  BRITTLE_CHECK(out_, "output: cannot write '", directory, "/energies.csv'");
-  out_ << "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,"
-          "damage_dissipated,external_work,total,relative_imbalance\n";
+namespace {
+constexpr const char* kEnergyHeader =
+    "time,kinetic,elastic,viscous_dissipated,cohesive_stored,cohesive_dissipated,"
+    "damage_dissipated,external_work,total,relative_imbalance\n";
+}
+
+EnergyCsvWriter::EnergyCsvWriter(const std::string& directory, bool resume)
+    : path_(directory + "/energies.csv") {
+  if (resume) return;
+  out_.open(path_, std::ios::trunc);
+  BRITTLE_CHECK(out_, "output: cannot write '", path_, "'");
+  out_ << kEnergyHeader;
+}
+
+void EnergyCsvWriter::on_resume(const Simulation& sim) {
+  const long keep = sim.progress().energy_rows;
+  std::ifstream in(path_);
+  BRITTLE_CHECK(in, "resume: cannot read '", path_, "'");
+  std::string text, line;
+  long rows = -1;  // the header first
+  while (rows < keep && std::getline(in, line)) text += line + "\n", ++rows;
+  BRITTLE_CHECK(rows == keep, "resume: '", path_, "' has ", std::max(rows, 0L),
+                " rows, the checkpoint was taken after ", keep);
+  in.close();
+  write_file_atomically(path_, text);
+  out_.open(path_, std::ios::app);
+  BRITTLE_CHECK(out_, "output: cannot write '", path_, "'");
+  initial_ = sim.initial_energy();
+  first_ = false;
 }
 
 void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
@@ -263,7 +320,7 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   const std::string& dir = sim.scene().output.directory;
   fs::create_directories(dir);
   if (sim.scene().output.vtu) writers_.push_back(std::make_unique<VtuSeriesWriter>(dir));
-  writers_.push_back(std::make_unique<EnergyCsvWriter>(dir));
+  writers_.push_back(std::make_unique<EnergyCsvWriter>(dir, sim.resumed()));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));
 }

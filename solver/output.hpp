@@ -19,6 +19,9 @@ class PvdCollection {
   explicit PvdCollection(std::string path) : path_(std::move(path)) {}
   void add(double time, const std::string& relative_file);
   const std::string& path() const { return path_; }
+  /// Takes over the first `keep` entries of the collection already at path() (a resumed run)
+  /// and rewrites it with them; throws if it holds fewer.
+  void resume(std::size_t keep);
 
  private:
   std::string path_;
@@ -32,6 +35,8 @@ class VtuSeriesWriter : public Observer {
  public:
   explicit VtuSeriesWriter(std::string directory);
   void on_frame(const Simulation& sim) override;
+  /// Keeps the frames written before the checkpoint, removes this run's later ones.
+  void on_resume(const Simulation& sim) override;
   const std::string& pvd_path() const { return grid_series_.path(); }
 
  private:
@@ -54,10 +59,14 @@ class CrackTipCsvWriter : public Observer {
 /// relative imbalance |E(t) - E(0)| / E(0).
 class EnergyCsvWriter : public Observer {
  public:
-  explicit EnergyCsvWriter(const std::string& directory);
+  /// Starts the file (header only), or with `resume` leaves it for on_resume.
+  explicit EnergyCsvWriter(const std::string& directory, bool resume = false);
   void on_energy(const Simulation& sim, const Energies& e) override;
+  /// Keeps the header and the rows written before the checkpoint; appends from there.
+  void on_resume(const Simulation& sim) override;
 
  private:
+  std::string path_;
   std::ofstream out_;
   double initial_ = 0;
   bool first_ = true;

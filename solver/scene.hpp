@@ -168,6 +168,8 @@ struct OutputParams {
   bool vtu = true;                    ///< write VTU frames + PVD
   double energy_interval = 0.1e-6;    ///< energies.csv row every this much simulated time [s]
   double imbalance_warning = 0.02;    ///< warn once when |E(t) - E(0)| / E(0) exceeds this
+  /// checkpoint.bin every this much simulated time, and at the end (0 = only when stopped)
+  double checkpoint_interval = 0;
 };
 
 /// PNG frames of the live grid, rendered off-screen by render/ (docs/rendering.md).

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "checkpoint.hpp"
 #include "error.hpp"
 
 namespace brittle {
@@ -102,7 +103,14 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                 " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
   const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
+  initial_points_ = grid_.num_points();
+  fixed_nodes_ = std::count_if(grid_.fixed(), grid_.fixed() + grid_.num_points(),
+                               [](std::uint8_t f) { return (f & 7) != 0; });
+  std::uint64_t h = fnv1a(grid_.X(), 3 * sizeof(double) * grid_.num_points());
+  mesh_fingerprint_ = fnv1a(grid_.cells(), 4 * sizeof(vtkIdType) * grid_.num_cells(), h);
 }
+
+CrackFronts Simulation::make_crack_fronts() const { return make_fronts(scene_, elements_); }
 
 void Simulation::step() {
   last_step_ = integrator_.step(time_, dt_);
@@ -122,8 +130,11 @@ void Simulation::step() {
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
-  for (const SplitRecord& split : r.splits)
-    fronts_.on_split(time_, grid_.X()[3 * split.a], grid_.X()[3 * split.a + 1]);
+  for (const SplitRecord& split : r.splits) {
+    const double X = grid_.X()[3 * split.a], Y = grid_.X()[3 * split.a + 1];
+    fronts_.on_split(time_, X, Y);
+    split_events_.insert(split_events_.end(), {time_, X, Y});
+  }
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
   clock.lap(own_times_.bookkeeping);
@@ -227,39 +238,45 @@ std::vector<double> Simulation::frame_times() const {
 
 RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   RunSummary summary;
-  summary.nodes = grid_.num_points();
+  summary.nodes = initial_points_;
   summary.tets = grid_.num_cells();
-  summary.fixed_nodes = std::count_if(grid_.fixed(), grid_.fixed() + grid_.num_points(),
-                                      [](std::uint8_t f) { return (f & 7) != 0; });
+  summary.fixed_nodes = fixed_nodes_;
   summary.sigma = sigma_;
-  summary.dt = dt_;
+  summary.dt = initial_dt_;
   summary.end_time = scene_.run.end_time;
   summary.threads = omp_get_max_threads();
-  const Energies initial = energies();
-  summary.initial_elastic = initial_energy_ = initial.total();
+  RunProgress& p = progress_;
+  const double checkpoint_interval = scene_.output.checkpoint_interval;
+  if (!resumed_) {
+    initial_energy_ = energies().total();
+    p.next_checkpoint = checkpoint_interval;
+  }
+  summary.initial_elastic = initial_energy_;
 
   const std::vector<double> frames = frame_times();
-  std::size_t next_frame = 0;
   const double energy_interval = scene_.output.energy_interval;
-  double next_energy = 0.0;
-  bool imbalance_warned = false;
   auto due = [this](double t) { return time_ >= t - 0.5 * dt_; };
+  auto warn = [&](const std::string& w) {
+    p.warnings.push_back(w);
+    for (Observer* o : observers) o->on_warning(*this, w);
+  };
+  // Energy row and frame if due; returns whether a frame was written.
   auto emit = [&]() {
     PhaseClock clock;
-    if (due(next_energy)) {
+    if (due(p.next_energy)) {
       const Energies e = energies();
       const double imbalance =
-          e.reference > 0 ? std::abs(e.total() - summary.initial_elastic) / e.reference : 0.0;
-      summary.max_relative_imbalance = std::max(summary.max_relative_imbalance, imbalance);
-      if (imbalance > scene_.output.imbalance_warning && !imbalance_warned) {
-        imbalance_warned = true;
-        summary.warnings.push_back(error_message(
+          e.reference > 0 ? std::abs(e.total() - initial_energy_) / e.reference : 0.0;
+      p.max_relative_imbalance = std::max(p.max_relative_imbalance, imbalance);
+      if (imbalance > scene_.output.imbalance_warning && !p.imbalance_warned) {
+        p.imbalance_warned = true;
+        warn(error_message(
             "energy budget off by ", 100 * imbalance, " % of the energy in the body at t = ", time_,
             " s (threshold ", 100 * scene_.output.imbalance_warning,
             " %): the step may be too large (run.cfl) or a mechanism is mis-accounted"));
-        for (Observer* o : observers) o->on_warning(*this, summary.warnings.back());
       }
       for (Observer* o : observers) o->on_energy(*this, e);
+      ++p.energy_rows;
       if (scene_.geometry.notches.empty()) {  // the paper's plate: largest x (SPEC 5)
         const bool split = fracture_.splits() > 0;
         const double x = split ? fracture_.tip_x() : scene_.geometry.notch_depth;
@@ -271,39 +288,74 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         tip_samples_.push_back({time_, head.x, head.y, fracture_.splits(),
                                 t.length_at_start + (t.arc.empty() ? 0.0 : t.arc.back())});
       }
-      while (due(next_energy)) next_energy += energy_interval;
+      while (due(p.next_energy)) p.next_energy += energy_interval;
     }
-    if (next_frame < frames.size() && due(frames[next_frame])) {
+    bool frame = false;
+    if (p.next_frame < frames.size() && due(frames[p.next_frame])) {
       update_output_fields();
       for (Observer* o : observers) o->on_frame(*this);
-      while (next_frame < frames.size() && due(frames[next_frame])) ++next_frame;
+      ++p.frames_written;
+      frame = true;
+      while (p.next_frame < frames.size() && due(frames[p.next_frame])) ++p.next_frame;
     }
     clock.lap(own_times_.output);
+    return frame;
   };
+  auto checkpoint = [&]() {
+    PhaseClock clock;
+    const std::string path = checkpoint_path(scene_.output.directory);
+    write_checkpoint(*this, path);
+    summary.checkpoint = path;
+    summary.checkpoint_time = time_;
+    for (Observer* o : observers) o->on_checkpoint(*this, path);
+    clock.lap(own_times_.output);
+  };
+  auto stop_requested = [this]() { return stop_flag_ && stop_flag_->load() != 0; };
 
+  if (resumed_)
+    for (Observer* o : observers) o->on_resume(*this);
   for (Observer* o : observers) o->on_start(*this);
-  double wall = 0.0;
   try {
-    emit();
+    bool frame_now = resumed_ ? false : emit();
+    bool interrupted = false;
     while (time_ < scene_.run.end_time - 0.5 * dt_) {
+      if (stop_requested()) {
+        interrupted = true;
+        break;
+      }
       const auto t0 = std::chrono::steady_clock::now();
       step();
-      wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      for (const std::string& w : take_step_warnings()) {
-        summary.warnings.push_back(w);
-        for (Observer* o : observers) o->on_warning(*this, w);
-      }
+      p.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      for (const std::string& w : take_step_warnings()) warn(w);
       for (Observer* o : observers) o->on_step(*this);
-      emit();
+      frame_now = emit();
+      if (checkpoint_interval > 0 && due(p.next_checkpoint)) {
+        checkpoint();
+        while (due(p.next_checkpoint)) p.next_checkpoint += checkpoint_interval;
+      }
     }
-    summary.status = "completed";
+    if (interrupted) {
+      // The checkpoint holds the progress without the last frame below: a resumed run writes
+      // its frames as the uninterrupted run would (the writers drop the extra one).
+      checkpoint();
+      if (!frame_now) {
+        update_output_fields();
+        for (Observer* o : observers) o->on_frame(*this);
+        ++p.frames_written;
+      }
+      summary.status = "interrupted";
+    } else {
+      if (checkpoint_interval > 0 && (summary.checkpoint.empty() || summary.checkpoint_time != time_))
+        checkpoint();  // so that the run can be extended (--resume with a later run.end_time)
+      summary.status = "completed";
+    }
   } catch (const Error& e) {
     summary.status = std::string("failed: ") + e.what();
-    for (const std::string& w : take_step_warnings()) {  // they may explain the failure
-      summary.warnings.push_back(w);
-      for (Observer* o : observers) o->on_warning(*this, w);
-    }
+    for (const std::string& w : take_step_warnings()) warn(w);  // they may explain the failure
   }
+  summary.warnings = p.warnings;
+  summary.max_relative_imbalance = p.max_relative_imbalance;
+  const double wall = p.wall_seconds;
   summary.time = time_;
   summary.steps = steps_;
   summary.wall_seconds = wall;
@@ -333,7 +385,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.zhou_speed = zhou_speed(summary.W);
   summary.phases = phases();
   for (Observer* o : observers) o->on_finish(*this, summary);
-  if (summary.status != "completed") throw Error(summary.status.substr(8));
+  if (summary.status.starts_with("failed: ")) throw Error(summary.status.substr(8));
   return summary;
 }
 

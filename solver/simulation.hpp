@@ -2,6 +2,8 @@
 // observers (writers, renderers, trackers) about steps, frames and energies.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,7 +44,8 @@ struct Energies {
 };
 
 struct RunSummary {
-  std::string status = "running";  ///< "completed" or "failed: <reason>"
+  /// "completed", "interrupted" (a stop was requested: docs/checkpoint.md) or "failed: <reason>"
+  std::string status = "running";
   vtkIdType nodes = 0, tets = 0, fixed_nodes = 0;
   double sigma = 0, dt = 0, end_time = 0, time = 0;
   double final_dt = 0;              ///< the step at the end (smaller if it had to be reduced)
@@ -64,6 +67,24 @@ struct RunSummary {
   double W = 0;                     ///< H sigma^2 / (2E)
   double zhou_speed = 0;            ///< speed of the Zhou et al. fit (1.1) at W
   PhaseTimes phases;                ///< wall time per phase of the step loop
+  std::string checkpoint;           ///< the last checkpoint written (empty: none)
+  double checkpoint_time = 0;       ///< its simulated time
+};
+
+/// Where the step loop stands between two steps: what is due next and what was emitted. Part
+/// of a checkpoint, so that a resumed run emits exactly the frames and rows it would have.
+struct RunProgress {
+  std::size_t next_frame = 0;  ///< index into frame_times() of the next frame due
+  double next_energy = 0;      ///< time of the next energy row
+  double next_checkpoint = 0;  ///< time of the next checkpoint (output.checkpoint_interval)
+  long frames_written = 0;     ///< frames handed to observers (on_frame calls)
+  long energy_rows = 0;        ///< energy rows handed to observers (on_energy calls)
+  bool imbalance_warned = false;
+  double max_relative_imbalance = 0;
+  std::vector<std::string> warnings;
+  double wall_seconds = 0;  ///< time spent stepping so far
+  template <class Archive>
+  void state(Archive& ar);  // checkpoint.cpp
 };
 
 class Simulation;
@@ -77,6 +98,11 @@ class Observer {
   virtual void on_frame(const Simulation&) {}  ///< output fields of the grid are up to date
   virtual void on_energy(const Simulation&, const Energies&) {}
   virtual void on_finish(const Simulation&, const RunSummary&) {}
+  /// A resumed run (before on_start): the state is the checkpoint's; files written after the
+  /// checkpoint by the stopped run are to be cut back to progress() (frames, energy rows).
+  virtual void on_resume(const Simulation&) {}
+  /// A checkpoint of the state now was written to `path`.
+  virtual void on_checkpoint(const Simulation&, const std::string& /*path*/) {}
   /// Something a person should look at (e.g. the energy budget no longer balances).
   virtual void on_warning(const Simulation&, const std::string&) {}
 };
@@ -93,10 +119,29 @@ class Simulation {
   /// if the stable step collapses.
   void step();
 
-  /// Steps until run.end_time, calling observers; frame and energy times from the scene.
-  /// On a blow-up the observers still get on_finish (status "failed: ...") and the
-  /// error is rethrown.
+  /// Steps until run.end_time, calling observers; frame and energy times from the scene,
+  /// checkpoints every output.checkpoint_interval into the output directory. On a blow-up the
+  /// observers still get on_finish (status "failed: ...") and the error is rethrown. When the
+  /// stop flag (set_stop_flag) turns non-zero the run finishes the step, writes a checkpoint
+  /// and a last frame, and returns with status "interrupted".
   RunSummary run(const std::vector<Observer*>& observers);
+
+  /// A flag the run polls after every step (set by a signal handler: app/main.cpp).
+  void set_stop_flag(const std::atomic<int>* flag) { stop_flag_ = flag; }
+  /// Marks the simulation as restored from a checkpoint (restore_checkpoint): run() goes on
+  /// from progress() and calls on_resume first.
+  void mark_resumed() { resumed_ = true; }
+  bool resumed() const { return resumed_; }
+  const RunProgress& progress() const { return progress_; }
+  /// The energy E(0) the budget is measured against (energies.csv, summary).
+  double initial_energy() const { return initial_energy_; }
+  /// A hash of the reference mesh as built (points and cells before any split): a checkpoint
+  /// only restores into a simulation of the same mesh.
+  std::uint64_t mesh_fingerprint() const { return mesh_fingerprint_; }
+
+  /// Reads or writes the whole state a step changes (checkpoint.cpp).
+  template <class Archive>
+  void state(Archive& ar);
 
   double time() const { return time_; }
   double dt() const { return dt_; }
@@ -166,6 +211,15 @@ class Simulation {
   double initial_energy_ = 0;
   mutable double energy_reference_ = 0;  // running max of kinetic + elastic (energies())
   std::vector<std::string> step_warnings_;
+  CrackFronts make_crack_fronts() const;
+  void rebuild_fronts();  // from split_events_ (checkpoint.cpp)
+  /// (t, X, Y) of every split in order: the crack fronts are rebuilt from it on restore.
+  std::vector<double> split_events_;
+  RunProgress progress_;
+  const std::atomic<int>* stop_flag_ = nullptr;
+  bool resumed_ = false;
+  std::uint64_t mesh_fingerprint_ = 0;
+  vtkIdType initial_points_ = 0, fixed_nodes_ = 0;
 };
 
 }  // namespace brittle

@@ -1,0 +1,354 @@
+// Checkpoint file and the state() of every class a step changes (docs/checkpoint.md).
+//
+// Layout: magic, format, brittle version, scene sources, the scene by section (to say which
+// one differs), the mesh fingerprint, time and step, the state, and an FNV-1a checksum of all
+// that precedes it. The state is each class's state(ar), in one order; a class that gains a
+// member a step changes must add it there (the resume tests compare every output bitwise).
+#include "checkpoint.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <utility>
+
+#include "simulation.hpp"
+
+namespace fs = std::filesystem;
+
+namespace brittle {
+
+// ------------------------------------------------------------------------------------------
+// state() of the classes a step changes
+// ------------------------------------------------------------------------------------------
+
+template <class Ar>
+void RunProgress::state(Ar& ar) {
+  io_all(ar, next_frame, next_energy, next_checkpoint, frames_written, energy_rows,
+         imbalance_warned, max_relative_imbalance, warnings, wall_seconds);
+}
+
+namespace {
+/// Every array of a vtkFieldData (point or cell data) as bytes, `tuples` tuples each.
+template <class Ar>
+void data_arrays(Ar& ar, vtkFieldData* data, vtkIdType tuples, const char* kind) {
+  std::uint64_t count = data->GetNumberOfArrays();
+  io(ar, count);
+  BRITTLE_CHECK(count == static_cast<std::uint64_t>(data->GetNumberOfArrays()), ar.what(),
+                ": the grid has other ", kind, " arrays than the checkpoint's");
+  for (int i = 0; i < data->GetNumberOfArrays(); ++i) {
+    vtkDataArray* a = vtkDataArray::SafeDownCast(data->GetAbstractArray(i));
+    BRITTLE_ASSERT(a);
+    std::string name = a->GetName() ? a->GetName() : "";
+    std::uint64_t bytes_per_tuple = a->GetNumberOfComponents() * a->GetDataTypeSize();
+    const std::string expected = name;
+    const std::uint64_t expected_size = bytes_per_tuple;
+    io_all(ar, name, bytes_per_tuple);
+    BRITTLE_CHECK(name == expected && bytes_per_tuple == expected_size, ar.what(), ": ", kind,
+                  " array '", name, "' does not match the grid's '", expected, "'");
+    if constexpr (Ar::loading) {
+      ar.check(tuples, bytes_per_tuple);
+      a->SetNumberOfTuples(tuples);
+    }
+    ar.raw(static_cast<char*>(a->GetVoidPointer(0)), tuples * bytes_per_tuple);
+    if constexpr (Ar::loading) a->Modified();
+  }
+}
+}  // namespace
+
+template <class Ar>
+void Grid::state(Ar& ar) {
+  std::uint64_t np = num_points_, nc = num_cells_;
+  io_all(ar, np, nc);
+  if constexpr (Ar::loading) {
+    BRITTLE_CHECK(nc == static_cast<std::uint64_t>(num_cells_), ar.what(),
+                  ": the checkpoint has ", nc, " tets, the mesh ", num_cells_);
+    ar.check(np, 3 * sizeof(double));
+    grid_->GetPoints()->SetNumberOfPoints(static_cast<vtkIdType>(np));
+  }
+  ar.raw(static_cast<double*>(grid_->GetPoints()->GetData()->GetVoidPointer(0)), 3 * np);
+  data_arrays(ar, grid_->GetPointData(), static_cast<vtkIdType>(np), "point");
+  data_arrays(ar, grid_->GetCellData(), static_cast<vtkIdType>(nc), "cell");
+  ar.raw(grid_->GetCells()->GetConnectivityArray64()->GetPointer(0), 4 * nc);
+  if constexpr (Ar::loading) {
+    refresh();
+    for (vtkIdType i = 0; i < 4 * num_cells_; ++i)
+      BRITTLE_CHECK(conn_[i] >= 0 && conn_[i] < num_points_, ar.what(),
+                    ": a tet refers to node ", conn_[i], " of ", num_points_);
+    grid_->GetPoints()->Modified();
+    grid_->GetCells()->Modified();
+    mark_modified();
+  }
+}
+
+template <class Ar>
+void ForceAssembler::state(Ar& ar) {
+  io_all(ar, blocks_, force_, element_force_, viscous_power_, block_power_, volume_, sigma1_bound_,
+         alpha1_, node_start_, node_end_, node_entries_);
+}
+
+template <class Ar>
+void CohesiveLink::state(Ar& ar) {
+  io_all(ar, a, b, f0, e0, A_c, delta_c, delta, delta_max, omega, f, dissipated, opening_rate,
+         faces);
+}
+
+template <class Ar>
+void CohesiveLinks::state(Ar& ar) {
+  io_all(ar, links_, linked_, linked_nodes_, delta_start_, impulse_, removed_dissipated_);
+}
+
+template <class Ar>
+void Fracture::state(Ar& ar) {
+  io_all(ar, plane_nodes_, root_, hot_, hot_nodes_, splits_, crack_area_, tip_x_, tip_y_);
+}
+
+template <class Ar>
+void Damage::state(Ar& ar) {
+  io_all(ar, step_index_, undamaged_energy_, evaluated_at_, block_sums_, block_cells_,
+         touched_nodes_, touched_);
+}
+
+template <class Ar>
+void Boundary::state(Ar& ar) {
+  io_all(ar, traction_work_, reaction_work_);
+}
+
+template <class Ar>
+void Simulation::state(Ar& ar) {
+  io_all(ar, time_, dt_, initial_dt_, steps_, dt_reductions_, substep_cap_steps_,
+         viscous_dissipated_, damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
+         split_events_, progress_);
+  io_all(ar, grid_, assembler_, links_, fracture_, damage_, boundary_);
+  if constexpr (Ar::loading) {
+    BRITTLE_CHECK(split_events_.size() % 3 == 0, ar.what(), ": damaged split list");
+    rebuild_fronts();
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+// The scene, section by section (a resumed run must be the same run)
+// ------------------------------------------------------------------------------------------
+
+template <class Ar>
+void io(Ar& ar, RegionParams& r) {
+  io_all(ar, r.box, r.group);
+}
+template <class Ar>
+void io(Ar& ar, NotchParams& n) {
+  io_all(ar, n.name, n.start[0], n.start[1], n.direction[0], n.direction[1], n.length, n.opening,
+         n.shape);
+}
+template <class Ar>
+void io(Ar& ar, BoundaryParams& b) {
+  io_all(ar, b.name, b.type, b.region, b.components[0], b.components[1], b.components[2],
+         b.value[0], b.value[1], b.value[2], b.history.kind, b.history.start, b.history.ramp_time,
+         b.history.table);
+}
+template <class Ar>
+void io(Ar& ar, InitialVelocityParams& v) {
+  io_all(ar, v.name, v.region, v.velocity[0], v.velocity[1], v.velocity[2]);
+}
+
+namespace {
+
+/// (section, bytes) of everything that shapes the run's results. run.end_time, run.threads
+/// (results are bitwise the same for any count), output.directory and
+/// output.checkpoint_interval may change on resume; the sources are the files' names only.
+std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
+  std::vector<std::pair<std::string, std::string>> out;
+  auto section = [&](const char* name, auto&&... fields) {
+    StateWriter w;
+    io_all(w, fields...);
+    out.emplace_back(name, std::move(w.bytes()));
+  };
+  MaterialParams& m = s.material;
+  section("material", m.rho0, m.E, m.nu, m.sigma_c, m.gamma, m.zeta1, m.zeta2);
+  GeometryParams& g = s.geometry;
+  section("geometry", g.L, g.H, g.T, g.notch_depth, g.notch_base, g.notches);
+  MeshParams& me = s.mesh;
+  section("mesh", me.file, me.size, me.band, me.band_size, me.layers);
+  section("loading", s.loading.sigma_over_sigmac, s.loading.sigma);
+  section("initial", s.initial.state, s.initial.velocities);
+  section("boundary", s.boundaries);
+  FractureParams& f = s.fracture;
+  section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region);
+  DamageParams& d = s.damage;
+  section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
+  section("run", s.run.cfl);
+  OutputParams& o = s.output;
+  section("output", o.frame_interval, o.frame_times, o.vtu, o.energy_interval,
+          o.imbalance_warning);
+  RenderParams& r = s.render;
+  section("render", r.times, r.fields, r.width, r.height, r.sigma1_min, r.sigma1_max, r.damage_min,
+          r.damage_max, r.magnification, r.zoom, r.directory);
+  return out;
+}
+
+constexpr char kMagic[] = "brittle checkpoint\n";
+constexpr std::uint32_t kFormat = 1;
+
+/// A checkpoint file read whole and checked (magic, checksum), its header parsed.
+struct CheckpointFile {
+  std::string bytes;
+  CheckpointHeader header;
+  std::vector<std::string> section_names, section_bytes;
+  std::uint64_t mesh_fingerprint = 0;
+  std::size_t state_begin = 0, state_end = 0;
+};
+
+CheckpointFile load_file(const std::string& path) {
+  const std::string what = "checkpoint '" + path + "'";
+  std::error_code ec;
+  BRITTLE_CHECK(fs::is_regular_file(path, ec), what, ": no such file (expected a run directory "
+                                                     "with checkpoint.bin: output.checkpoint_interval "
+                                                     "or a run stopped by SIGINT/SIGTERM)");
+  CheckpointFile f;
+  {
+    std::ifstream in(path, std::ios::binary);
+    BRITTLE_CHECK(in, what, ": cannot be opened");
+    f.bytes.assign(std::istreambuf_iterator<char>(in), {});
+    BRITTLE_CHECK(!in.bad(), what, ": cannot be read");
+  }
+  const std::size_t magic = sizeof kMagic - 1;
+  BRITTLE_CHECK(f.bytes.size() >= magic + 8 && f.bytes.compare(0, magic, kMagic) == 0, what,
+                ": not a brittle checkpoint");
+  std::uint64_t sum = 0;
+  std::memcpy(&sum, f.bytes.data() + f.bytes.size() - 8, 8);
+  BRITTLE_CHECK(sum == fnv1a(f.bytes.data(), f.bytes.size() - 8), what,
+                ": damaged (checksum does not match; expected a complete checkpoint)");
+  StateReader r(f.bytes.data() + magic, f.bytes.data() + f.bytes.size() - 8, what);
+  std::uint32_t format = 0;
+  io(r, format);
+  BRITTLE_CHECK(format == kFormat, what, ": format ", format, " (this brittle reads format ",
+                kFormat, ")");
+  CheckpointHeader& h = f.header;
+  io_all(r, h.version, h.sources, f.section_names, f.section_bytes, f.mesh_fingerprint, h.time,
+         h.steps);
+  std::uint64_t state_size = 0;
+  io(r, state_size);
+  BRITTLE_CHECK(r.remaining() == state_size, what, ": damaged (the state's size does not match)");
+  f.state_end = f.bytes.size() - 8;
+  f.state_begin = f.state_end - state_size;
+  return f;
+}
+
+/// Writes `bytes` to `path` (created or truncated), fsyncs it; throws naming the OS error.
+void write_synced(const std::string& path, const std::string& bytes, bool kill_midway) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  BRITTLE_CHECK(fd >= 0, "checkpoint: cannot write '", path, "': ", std::strerror(errno));
+  std::size_t done = 0;
+  int error = 0;
+  while (done < bytes.size()) {
+    if (kill_midway && done >= bytes.size() / 2) std::raise(SIGKILL);  // tests only
+    const std::size_t chunk = std::min<std::size_t>(bytes.size() - done, std::size_t(1) << 24);
+    const ssize_t n = ::write(fd, bytes.data() + done, chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = errno ? errno : EIO;
+      break;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (!error && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && !error) error = errno;
+  if (error) {
+    ::unlink(path.c_str());
+    throw Error(error_message("checkpoint: cannot write '", path, "': ", std::strerror(error)));
+  }
+}
+
+}  // namespace
+
+void Simulation::rebuild_fronts() {
+  fronts_ = make_crack_fronts();
+  for (std::size_t i = 0; i + 2 < split_events_.size(); i += 3)
+    fronts_.on_split(split_events_[i], split_events_[i + 1], split_events_[i + 2]);
+}
+
+std::size_t write_checkpoint(const Simulation& sim, const std::string& path) {
+  StateWriter w;
+  w.raw(kMagic, sizeof kMagic - 1);
+  std::uint32_t format = kFormat;
+  std::string version = BRITTLE_VERSION;
+  std::vector<std::string> sources;
+  for (const std::string& s : sim.scene().sources)
+    sources.push_back(s.starts_with("--set ") ? s : fs::absolute(s).lexically_normal().string());
+  std::vector<std::string> names, bytes;
+  for (auto& [name, b] : scene_sections(sim.scene())) names.push_back(name), bytes.push_back(b);
+  std::uint64_t mesh = sim.mesh_fingerprint();
+  double time = sim.time();
+  long steps = sim.steps();
+  io_all(w, format, version, sources, names, bytes, mesh, time, steps);
+  StateWriter state;
+  const_cast<Simulation&>(sim).state(state);  // the writer only reads
+  std::uint64_t state_size = state.bytes().size();
+  io(w, state_size);
+  w.bytes() += state.bytes();
+  std::uint64_t sum = fnv1a(w.bytes().data(), w.bytes().size());
+  io(w, sum);
+
+  // Test hook (docs/testing.md): BRITTLE_TEST_KILL_IN_CHECKPOINT=N kills the process half-way
+  // through writing its N-th checkpoint, as a SIGKILL from outside would.
+  static int written = 0;
+  const char* kill_at = std::getenv("BRITTLE_TEST_KILL_IN_CHECKPOINT");
+  const bool kill_midway = kill_at && std::atoi(kill_at) == ++written;
+  const std::string tmp = path + ".tmp";
+  write_synced(tmp, w.bytes(), kill_midway);
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(error_message("checkpoint: cannot rename '", tmp, "' to '", path, "': ",
+                              ec.message()));
+  }
+  // The rename itself reaches the disk with the directory.
+  const std::string dir = fs::path(path).parent_path().empty()
+                              ? std::string(".")
+                              : fs::path(path).parent_path().string();
+  if (const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+  return w.bytes().size();
+}
+
+CheckpointHeader read_checkpoint_header(const std::string& path) {
+  return load_file(path).header;
+}
+
+void restore_checkpoint(Simulation& sim, const std::string& path) {
+  const CheckpointFile f = load_file(path);
+  const std::string what = "checkpoint '" + path + "'";
+  BRITTLE_CHECK(f.header.version == BRITTLE_VERSION, what, " was written by brittle ",
+                f.header.version, ", this is brittle ", BRITTLE_VERSION,
+                " (expected the same version: run the scene again from the start)");
+  const auto sections = scene_sections(sim.scene());
+  BRITTLE_CHECK(f.section_names.size() == sections.size(), what, ": scene sections differ");
+  for (std::size_t i = 0; i < sections.size(); ++i)
+    BRITTLE_CHECK(f.section_names[i] == sections[i].first && f.section_bytes[i] == sections[i].second,
+                  what, ": the scene's [", sections[i].first,
+                  "] keys differ from the checkpoint's (on --resume only run.end_time, "
+                  "run.threads and output.checkpoint_interval may change)");
+  BRITTLE_CHECK(f.mesh_fingerprint == sim.mesh_fingerprint(), what,
+                ": the mesh differs from the checkpoint's (expected the same mesh.file "
+                "contents or generated plate)");
+  BRITTLE_CHECK(f.header.time <= sim.scene().run.end_time * (1 + 1e-12), what, ": run.end_time = ",
+                sim.scene().run.end_time, " s is before the checkpoint's time ", f.header.time,
+                " s (expected a later end time)");
+  StateReader r(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);
+  sim.state(r);
+  BRITTLE_CHECK(r.done(), what, ": damaged (bytes left after the state)");
+  sim.mark_resumed();
+}
+
+}  // namespace brittle
