@@ -249,8 +249,9 @@ void write_synced(const std::string& path, const std::string& bytes, bool kill_m
   std::size_t done = 0;
   int error = 0;
   while (done < bytes.size()) {
-    if (kill_midway && done >= bytes.size() / 2) std::raise(SIGKILL);  // tests only
-    const std::size_t chunk = std::min<std::size_t>(bytes.size() - done, std::size_t(1) << 24);
+    if (kill_midway && done > 0) std::raise(SIGKILL);  // tests only: after half the bytes
+    const std::size_t chunk = std::min<std::size_t>(
+        bytes.size() - done, kill_midway ? bytes.size() / 2 : std::size_t(1) << 24);
     const ssize_t n = ::write(fd, bytes.data() + done, chunk);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {

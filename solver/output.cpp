@@ -272,6 +272,9 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["crack_speed_window"] = {number(s.crack_speed.t_begin), number(s.crack_speed.t_end)};
   j["crack_speed_r2"] = number(s.crack_speed.r2);
   j["speed_stop_x"] = number(s.speed_stop_x);
+  j["checkpoint"] = nullptr;  // the last checkpoint written (docs/checkpoint.md), if any
+  j["checkpoint_time"] = nullptr;
+  if (!s.checkpoint.empty()) j["checkpoint"] = s.checkpoint, j["checkpoint_time"] = number(s.checkpoint_time);
   j["W"] = number(s.W);
   j["zhou_speed"] = number(s.zhou_speed);
   // Every crack tip, branching and nucleation (docs/crack_fronts.md); positions reference.

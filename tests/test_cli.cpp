@@ -14,10 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "cli_helpers.hpp"
 #include "error.hpp"
 #include "scene_options.hpp"
 
 namespace fs = std::filesystem;
+using namespace brittle_test;
 using brittle::load_scene;
 using brittle::Scene;
 using brittle::BoundaryParams;
@@ -26,36 +28,6 @@ using brittle::NotchParams;
 using brittle::TimeHistory;
 
 namespace {
-
-/// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "brittle_test_cli_XXXXXX").string();
-    const char* made = mkdtemp(pattern.data());
-    if (!made) throw std::runtime_error("mkdtemp failed");
-    path_ = made;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  /// Writes `text` to `name` (relative to the dir, subdirectories created) and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p.string();
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 /// The minimal valid scene: only the load is required.
 const char* kLoad = "[loading]\nsigma_over_sigmac = 0.6\n";
@@ -81,48 +53,10 @@ std::string file_error(const TempDir& dir, const std::string& text,
   return error_of([&] { load_scene({file}, sets); });
 }
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
-
 /// Checks a message is one line and contains every part.
 void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
   EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
   for (const auto& p : parts) EXPECT_TRUE(contains(msg, p)) << "'" << p << "' not in: " << msg;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// Runs the brittle executable with `args`, stdout and stderr captured to files in `dir`.
-Result run_brittle(const TempDir& dir, const std::vector<std::string>& args) {
-  std::string cmd = quote(BRITTLE_EXE);
-  // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
-  for (const auto& a : args) cmd.append(" ").append(quote(a));
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  cmd.append(" >").append(quote(out.string()));
-  cmd.append(" 2>").append(quote(err.string())).append(" </dev/null");
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
 }
 
 }  // namespace

@@ -1,0 +1,245 @@
+// Checkpoint, resume and the graceful stop (issue 12; docs/checkpoint.md): a resumed run is
+// bitwise the uninterrupted one, SIGINT/SIGTERM leave readable output and a checkpoint that
+// resumes, a kill while a checkpoint is written leaves the previous one, and a checkpoint of
+// another scene, version or a damaged one is refused with one line and exit 2.
+#include <gtest/gtest.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <chrono>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "checkpoint.hpp"
+#include "cli_helpers.hpp"
+#include "output.hpp"
+
+using namespace brittle_test;
+
+namespace {
+
+const std::string kScenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+
+/// `brittle run` arguments: cm.ini, the overlays, --out, the --set overrides.
+std::vector<std::string> run_args(const std::vector<std::string>& overlays, const fs::path& out,
+                                  const std::vector<std::string>& sets) {
+  std::vector<std::string> a{"run", kScenes + "cm.ini"};
+  for (const auto& o : overlays) a.push_back(kScenes + o);
+  a.insert(a.end(), {"--out", out.string()});
+  for (const auto& s : sets) a.insert(a.end(), {"--set", s});
+  return a;
+}
+
+nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(read_text(dir / "summary.json")); }
+
+/// summary.json without what measures the machine (wall times, rates, threads) or names the
+/// command lines that made it.
+nlohmann::json physics_of(nlohmann::json j) {
+  for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases", "threads",
+                          "scene_sources", "checkpoint", "checkpoint_time"})
+    j.erase(key);
+  return j;
+}
+
+/// Every file of `a` (recursively) is in `b` with the same bytes; summary.json by its physics.
+void expect_same_outputs(const fs::path& a, const fs::path& b) {
+  int files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(a)) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path rel = fs::relative(entry.path(), a);
+    const std::string name = rel.filename().string();
+    if (name == "checkpoint.bin" || name.starts_with("stdout") || name.starts_with("stderr"))
+      continue;
+    ++files;
+    ASSERT_TRUE(fs::exists(b / rel)) << rel;
+    if (name == "summary.json")
+      EXPECT_EQ(physics_of(summary(a)), physics_of(summary(b)));
+    else
+      EXPECT_TRUE(read_text(entry.path()) == read_text(b / rel)) << rel << " differs";
+  }
+  EXPECT_GT(files, 10);
+  int in_b = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(b))
+    if (entry.is_regular_file() && entry.path().extension() != ".bin") ++in_b;
+  EXPECT_EQ(in_b, files) << "the resumed directory has other files";
+}
+
+/// Reads a .pvd and every VTU it lists; fails the test on any that does not read.
+std::size_t expect_readable_series(const fs::path& pvd) {
+  const std::vector<brittle::PvdEntry> entries = brittle::read_pvd(pvd.string());
+  for (const auto& e : entries) {
+    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    reader->SetFileName(e.file.c_str());
+    reader->Update();
+    EXPECT_GT(reader->GetOutput()->GetNumberOfCells(), 0) << e.file;
+  }
+  return entries.size();
+}
+
+/// Waits until `file` has at least `lines` lines (the run is stepping); false after 120 s.
+bool wait_for_lines(const fs::path& file, std::size_t lines) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < until) {
+    const std::string text = read_text(file);
+    if (static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) >= lines) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+}  // namespace
+
+// The paper's hardest setting on CM: branching, damage and rate-dependent links, stopped at
+// 3 us (a checkpoint every 1 us) and resumed to 6 us on another thread count.
+TEST(Checkpoint, ResumedRunIsBitwiseTheUninterruptedRun) {
+  TempDir dir;
+  const std::vector<std::string> overlays{"branching.ini", "damage.ini", "rate-dependent.ini"};
+  Result r = run_brittle(dir, run_args(overlays, dir / "full",
+                                       {"run.end_time=6e-6", "run.threads=2"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_brittle(dir, run_args(overlays, dir / "part",
+                                {"run.end_time=3e-6", "run.threads=1",
+                                 "output.checkpoint_interval=1e-6"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The checkpoint holds every mechanism: split nodes, live links, damage.
+  const nlohmann::json before = summary(dir / "part");
+  EXPECT_GT(before.at("splits").get<long>(), 2);
+  EXPECT_GT(before.at("live_links").get<long>(), 2);
+  EXPECT_GT(before.at("damage_dissipated").get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(before.at("checkpoint_time").get<double>(), before.at("time").get<double>());
+
+  r = run_brittle(dir, {"run", "--resume", (dir / "part").string(), "--set", "run.end_time=6e-6",
+                        "--set", "run.threads=2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_same_outputs(dir / "full", dir / "part");
+}
+
+TEST(Checkpoint, StraightRateIndependentRunResumesBitwise) {
+  TempDir dir;
+  Result r = run_brittle(dir, run_args({}, dir / "full", {"run.end_time=8e-6"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_brittle(dir, run_args({}, dir / "part",
+                                {"run.end_time=5e-6", "output.checkpoint_interval=2.5e-6"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_brittle(dir, {"run", "--resume", (dir / "part").string(), "--set", "run.end_time=8e-6"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_same_outputs(dir / "full", dir / "part");
+}
+
+// SIGINT: the step finishes, a checkpoint and a last frame are written, the summary says
+// "interrupted", exit 130; the run resumes from there.
+TEST(Checkpoint, SigintStopsCleanlyAndTheRunResumes) {
+  TempDir dir;
+  const fs::path out = dir / "run";
+  Background run(dir, run_args({"branching.ini"}, out, {"run.end_time=400e-6"}));
+  ASSERT_TRUE(wait_for_lines(out / "energies.csv", 20)) << run.err();
+  run.signal(SIGINT);
+  EXPECT_EQ(run.wait(), 130) << run.err();
+  EXPECT_TRUE(contains(run.err(), "brittle run --resume")) << run.err();
+  const nlohmann::json s = summary(out);
+  EXPECT_EQ(s.at("status"), "interrupted");
+  const double stopped = s.at("time").get<double>();
+  EXPECT_GT(stopped, 1.75e-6);  // 19 energy rows: 0 to 1.8 us
+  EXPECT_LT(stopped, 400e-6);
+  EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(out / "checkpoint.bin.tmp"));
+  const std::size_t frames = expect_readable_series(out / "run.pvd");
+  ASSERT_GE(frames, 2u);
+  EXPECT_DOUBLE_EQ(brittle::read_pvd((out / "run.pvd").string()).back().time, stopped)
+      << "the last frame is the state at the stop";
+
+  char end[64];
+  std::snprintf(end, sizeof end, "run.end_time=%.17g", stopped + 2.5e-6);
+  const Result r = run_brittle(dir, {"run", "--resume", out.string(), "--set", end});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summary(out).at("status"), "completed");
+  EXPECT_GE(expect_readable_series(out / "run.pvd"), frames + 1);
+}
+
+TEST(Checkpoint, SigtermExitsWith143) {
+  TempDir dir;
+  const fs::path out = dir / "run";
+  Background run(dir, run_args({}, out, {"run.end_time=400e-6", "output.vtu=false"}));
+  ASSERT_TRUE(wait_for_lines(out / "energies.csv", 10)) << run.err();
+  run.signal(SIGTERM);
+  EXPECT_EQ(run.wait(), 143) << run.err();
+  EXPECT_EQ(summary(out).at("status"), "interrupted");
+  EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
+}
+
+// A SIGKILL half-way through writing the third checkpoint (the test hook of checkpoint.cpp)
+// leaves the second one whole: the run resumes from it to the uninterrupted result.
+TEST(Checkpoint, KillDuringAWriteLeavesThePreviousCheckpoint) {
+  TempDir dir;
+  const std::vector<std::string> overlays{"branching.ini", "rate-dependent.ini"};
+  const std::vector<std::string> sets{"run.end_time=5e-6", "output.checkpoint_interval=1e-6"};
+  Result r = run_brittle(dir, run_args(overlays, dir / "full", sets));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Background killed(dir, run_args(overlays, dir / "part", sets),
+                    {"BRITTLE_TEST_KILL_IN_CHECKPOINT=3"});
+  EXPECT_EQ(killed.wait(), 128 + SIGKILL);
+  ASSERT_TRUE(fs::exists(dir / "part/checkpoint.bin.tmp")) << "the kill came before the write";
+  const brittle::CheckpointHeader h =
+      brittle::read_checkpoint_header((dir / "part/checkpoint.bin").string());
+  EXPECT_NEAR(h.time, 2e-6, 0.1e-6);
+  r = run_brittle(dir, {"run", "--resume", (dir / "part").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "part/checkpoint.bin.tmp"));
+  EXPECT_TRUE(read_text(dir / "full/energies.csv") == read_text(dir / "part/energies.csv"));
+  EXPECT_TRUE(read_text(dir / "full/frames/frame_0005.vtu") ==
+              read_text(dir / "part/frames/frame_0005.vtu"));
+}
+
+TEST(Checkpoint, RefusesAnotherSceneVersionOrADamagedFile) {
+  TempDir dir;
+  const std::string scene = dir.write("s.ini", read_text(kScenes + "cm.ini"));
+  const fs::path out = dir / "run";
+  Result r = run_brittle(dir, {"run", scene, "--out", out.string(), "--set", "run.end_time=1e-6",
+                               "--set", "output.checkpoint_interval=1e-6", "--set",
+                               "output.vtu=false"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path ck = out / "checkpoint.bin";
+  const std::string good = read_text(ck);
+  auto refused = [&](const std::vector<std::string>& sets, const std::vector<std::string>& parts) {
+    std::vector<std::string> args{"run", "--resume", out.string()};
+    for (const auto& s : sets) args.insert(args.end(), {"--set", s});
+    const Result res = run_brittle(dir, args);
+    EXPECT_EQ(res.exit_code, 2) << res.err;
+    EXPECT_EQ(std::count(res.err.begin(), res.err.end(), '\n'), 1) << res.err;
+    for (const auto& p : parts) EXPECT_TRUE(contains(res.err, p)) << p << " not in " << res.err;
+  };
+  refused({"material.E=3e9"}, {"--set material.E=3e9", "run.end_time"});
+  refused({"run.end_time=0.5e-6"}, {"before the checkpoint"});
+
+  // The scene file changed since: its [loading] no longer matches.
+  std::string changed = read_text(kScenes + "cm.ini");
+  const std::size_t load = changed.find("sigma_over_sigmac = 0.9");
+  ASSERT_NE(load, std::string::npos);
+  changed.replace(load, 23, "sigma_over_sigmac = 0.8");
+  dir.write("s.ini", changed);
+  refused({}, {"[loading]", "differ"});
+  dir.write("s.ini", read_text(kScenes + "cm.ini"));
+
+  // Another version: the version string patched and the checksum made to match.
+  std::string other = good;
+  const std::size_t at = other.find(BRITTLE_VERSION);
+  ASSERT_NE(at, std::string::npos);
+  other[at] = other[at] == '9' ? '8' : '9';
+  const std::uint64_t sum = brittle::fnv1a(other.data(), other.size() - 8);
+  std::memcpy(other.data() + other.size() - 8, &sum, 8);
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << other;
+  refused({}, {"was written by brittle", "this is brittle " BRITTLE_VERSION});
+
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << good.substr(0, good.size() / 2);
+  refused({}, {"checkpoint.bin", "damaged"});
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << "[loading]\n";
+  refused({}, {"not a brittle checkpoint"});
+  fs::remove(ck);
+  refused({}, {"no such file"});
+
+  // And the good one still resumes.
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << good;
+  r = run_brittle(dir, {"run", "--resume", out.string(), "--set", "run.end_time=1.2e-6"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
