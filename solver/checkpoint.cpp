@@ -222,11 +222,15 @@ CheckpointFile load_file(const std::string& path) {
   const std::size_t magic = sizeof kMagic - 1;
   BRITTLE_CHECK(f.bytes.size() >= magic + 8 && f.bytes.compare(0, magic, kMagic) == 0, what,
                 ": not a brittle checkpoint");
-  std::uint64_t sum = 0;
+  std::uint64_t sum = 0, state_size = 0;
   std::memcpy(&sum, f.bytes.data() + f.bytes.size() - 8, 8);
-  BRITTLE_CHECK(sum == fnv1a(f.bytes.data(), f.bytes.size() - 8), what,
-                ": damaged (checksum does not match; expected a complete checkpoint)");
-  StateReader r(f.bytes.data() + magic, f.bytes.data() + f.bytes.size() - 8, what);
+  BRITTLE_CHECK(f.bytes.size() >= magic + 16 && sum == fnv1a(f.bytes.data(), f.bytes.size() - 8),
+                what, ": damaged (checksum does not match; expected a complete checkpoint)");
+  std::memcpy(&state_size, f.bytes.data() + f.bytes.size() - 16, 8);
+  f.state_end = f.bytes.size() - 16;
+  BRITTLE_CHECK(state_size <= f.state_end - magic, what, ": damaged (state size)");
+  f.state_begin = f.state_end - state_size;
+  StateReader r(f.bytes.data() + magic, f.bytes.data() + f.state_begin, what);
   std::uint32_t format = 0;
   io(r, format);
   BRITTLE_CHECK(format == kFormat, what, ": format ", format, " (this brittle reads format ",
@@ -234,38 +238,8 @@ CheckpointFile load_file(const std::string& path) {
   CheckpointHeader& h = f.header;
   io_all(r, h.version, h.sources, f.section_names, f.section_bytes, f.mesh_fingerprint, h.time,
          h.steps);
-  std::uint64_t state_size = 0;
-  io(r, state_size);
-  BRITTLE_CHECK(r.remaining() == state_size, what, ": damaged (the state's size does not match)");
-  f.state_end = f.bytes.size() - 8;
-  f.state_begin = f.state_end - state_size;
+  BRITTLE_CHECK(r.done(), what, ": damaged (header and state do not meet)");
   return f;
-}
-
-/// Writes `bytes` to `path` (created or truncated), fsyncs it; throws naming the OS error.
-void write_synced(const std::string& path, const std::string& bytes, bool kill_midway) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  BRITTLE_CHECK(fd >= 0, "checkpoint: cannot write '", path, "': ", std::strerror(errno));
-  std::size_t done = 0;
-  int error = 0;
-  while (done < bytes.size()) {
-    if (kill_midway && done > 0) std::raise(SIGKILL);  // tests only: after half the bytes
-    const std::size_t chunk = std::min<std::size_t>(
-        bytes.size() - done, kill_midway ? bytes.size() / 2 : std::size_t(1) << 24);
-    const ssize_t n = ::write(fd, bytes.data() + done, chunk);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      error = errno ? errno : EIO;
-      break;
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (!error && ::fsync(fd) != 0) error = errno;
-  if (::close(fd) != 0 && !error) error = errno;
-  if (error) {
-    ::unlink(path.c_str());
-    throw Error(error_message("checkpoint: cannot write '", path, "': ", std::strerror(error)));
-  }
 }
 
 }  // namespace
@@ -276,8 +250,37 @@ void Simulation::rebuild_fronts() {
     fronts_.on_split(split_events_[i], split_events_[i + 1], split_events_[i + 2]);
 }
 
+void StateWriter::write_out(const void* data, std::size_t size) {
+  const char* p = static_cast<const char*>(data);
+  while (size > 0 && error_ == 0) {
+    const ssize_t n = ::write(fd_, p, std::min<std::size_t>(size, kBlock << 4));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error_ = n < 0 ? errno : EIO;
+      break;
+    }
+    p += n, size -= static_cast<std::size_t>(n);
+    if (kill_) std::raise(SIGKILL);  // tests only: a kill after the first block is out
+  }
+}
+
+void StateWriter::flush() {
+  if (fd_ < 0 || bytes_.empty()) return;
+  write_out(bytes_.data(), bytes_.size());
+  bytes_.clear();
+}
+
 std::size_t write_checkpoint(const Simulation& sim, const std::string& path) {
-  StateWriter w;
+  // Test hook (docs/testing.md): BRITTLE_TEST_KILL_IN_CHECKPOINT=N kills the process after the
+  // first block of its N-th checkpoint is written, as a SIGKILL from outside would.
+  static int count = 0;
+  const char* kill_at = std::getenv("BRITTLE_TEST_KILL_IN_CHECKPOINT");
+  const bool kill = kill_at && std::atoi(kill_at) == ++count;
+
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  BRITTLE_CHECK(fd >= 0, "checkpoint: cannot write '", tmp, "': ", std::strerror(errno));
+  StateWriter w(fd, kill);
   w.raw(kMagic, sizeof kMagic - 1);
   std::uint32_t format = kFormat;
   std::string version = BRITTLE_VERSION;
@@ -290,37 +293,31 @@ std::size_t write_checkpoint(const Simulation& sim, const std::string& path) {
   double time = sim.time();
   long steps = sim.steps();
   io_all(w, format, version, sources, names, bytes, mesh, time, steps);
-  StateWriter state;
-  const_cast<Simulation&>(sim).state(state);  // the writer only reads
-  std::uint64_t state_size = state.bytes().size();
+  const std::size_t state_begin = w.written();
+  const_cast<Simulation&>(sim).state(w);  // the writer only reads
+  std::uint64_t state_size = w.written() - state_begin;
   io(w, state_size);
-  w.bytes() += state.bytes();
-  std::uint64_t sum = fnv1a(w.bytes().data(), w.bytes().size());
+  std::uint64_t sum = w.hash();
   io(w, sum);
-
-  // Test hook (docs/testing.md): BRITTLE_TEST_KILL_IN_CHECKPOINT=N kills the process half-way
-  // through writing its N-th checkpoint, as a SIGKILL from outside would.
-  static int written = 0;
-  const char* kill_at = std::getenv("BRITTLE_TEST_KILL_IN_CHECKPOINT");
-  const bool kill_midway = kill_at && std::atoi(kill_at) == ++written;
-  const std::string tmp = path + ".tmp";
-  write_synced(tmp, w.bytes(), kill_midway);
+  w.flush();
+  int error = w.error();
+  if (!error && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && !error) error = errno;
   std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
+  if (!error) fs::rename(tmp, path, ec);
+  if (error || ec) {
     fs::remove(tmp, ec);
-    throw Error(error_message("checkpoint: cannot rename '", tmp, "' to '", path, "': ",
-                              ec.message()));
+    throw Error(error_message("checkpoint: cannot write '", path, "': ",
+                              error ? std::strerror(error) : ec.message()));
   }
   // The rename itself reaches the disk with the directory.
-  const std::string dir = fs::path(path).parent_path().empty()
-                              ? std::string(".")
-                              : fs::path(path).parent_path().string();
-  if (const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {
-    ::fsync(fd);
-    ::close(fd);
+  const fs::path parent = fs::path(path).parent_path();
+  const std::string dir = parent.empty() ? std::string(".") : parent.string();
+  if (const int d = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) {
+    ::fsync(d);
+    ::close(d);
   }
-  return w.bytes().size();
+  return w.written();
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {

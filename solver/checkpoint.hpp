@@ -16,23 +16,56 @@ namespace brittle {
 
 class Simulation;
 
+/// FNV-1a over bytes (fingerprints and the checkpoint's checksum), continuing from h.
+inline std::uint64_t fnv1a(const void* data, std::size_t size,
+                           std::uint64_t h = 14695981039346656037ull) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
 /// Writes values as their bytes (the checkpoint is read back by the same build on the same
-/// kind of machine: the version check refuses any other).
+/// kind of machine: the version check refuses any other): into bytes(), or with a file
+/// descriptor through a 1 MB buffer into the file, so that a checkpoint costs no copy of the
+/// state in memory. Keeps the FNV-1a checksum of everything written.
 class StateWriter {
  public:
   static constexpr bool loading = false;
+  StateWriter() = default;
+  /// Into the open file `fd`; `kill_after_first_block` is the test hook of write_checkpoint.
+  explicit StateWriter(int fd, bool kill_after_first_block = false)
+      : fd_(fd), kill_(kill_after_first_block) {}
   template <class T>
   void raw(const T* data, std::size_t count) {
     static_assert(std::is_trivially_copyable_v<T>);
     const std::size_t size = count * sizeof(T), old = bytes_.size();
-    bytes_.resize(old + size);
-    if (size) std::memcpy(bytes_.data() + old, static_cast<const void*>(data), size);
+    if (size == 0) return;
+    hash_ = fnv1a(data, size, hash_);
+    written_ += size;
+    if (fd_ >= 0 && old + size > kBlock) {
+      flush();
+      if (size > kBlock) return write_out(data, size);
+    }
+    bytes_.resize(bytes_.size() + size);
+    std::memcpy(bytes_.data() + bytes_.size() - size, static_cast<const void*>(data), size);
   }
+  /// Writes the buffer to the file (if any); the first error (errno) is kept in error().
+  void flush();
   std::string& bytes() { return bytes_; }
+  std::uint64_t hash() const { return hash_; }
+  std::size_t written() const { return written_; }
+  int error() const { return error_; }
   const std::string& what() const { return what_; }
 
  private:
+  static constexpr std::size_t kBlock = std::size_t(1) << 20;
+  void write_out(const void* data, std::size_t size);
   std::string bytes_;
+  int fd_ = -1;
+  bool kill_ = false;
+  int error_ = 0;
+  std::uint64_t hash_ = 14695981039346656037ull;
+  std::size_t written_ = 0;
   std::string what_ = "checkpoint";
 };
 
@@ -103,14 +136,6 @@ void io(Ar& ar, std::vector<T>& v) {
 template <class Ar, class... T>
 void io_all(Ar& ar, T&... v) {
   (io(ar, v), ...);
-}
-
-/// FNV-1a over bytes (fingerprints and the checkpoint's checksum).
-inline std::uint64_t fnv1a(const void* data, std::size_t size,
-                           std::uint64_t h = 14695981039346656037ull) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
 }
 
 /// What a checkpoint says about itself, readable without building the run.

@@ -275,6 +275,9 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["checkpoint"] = nullptr;  // the last checkpoint written (docs/checkpoint.md), if any
   j["checkpoint_time"] = nullptr;
   if (!s.checkpoint.empty()) j["checkpoint"] = s.checkpoint, j["checkpoint_time"] = number(s.checkpoint_time);
+  j["checkpoints_written"] = s.checkpoints;
+  j["checkpoint_bytes"] = s.checkpoint_bytes;
+  j["checkpoint_seconds"] = number(s.checkpoint_seconds);
   j["W"] = number(s.W);
   j["zhou_speed"] = number(s.zhou_speed);
   // Every crack tip, branching and nucleation (docs/crack_fronts.md); positions reference.

@@ -304,7 +304,11 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   auto checkpoint = [&]() {
     PhaseClock clock;
     const std::string path = checkpoint_path(scene_.output.directory);
-    write_checkpoint(*this, path);
+    const auto t0 = std::chrono::steady_clock::now();
+    summary.checkpoint_bytes = write_checkpoint(*this, path);
+    summary.checkpoint_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++summary.checkpoints;
     summary.checkpoint = path;
     summary.checkpoint_time = time_;
     for (Observer* o : observers) o->on_checkpoint(*this, path);

@@ -69,6 +69,9 @@ struct RunSummary {
   PhaseTimes phases;                ///< wall time per phase of the step loop
   std::string checkpoint;           ///< the last checkpoint written (empty: none)
   double checkpoint_time = 0;       ///< its simulated time
+  long checkpoints = 0;             ///< checkpoints written by this process
+  std::size_t checkpoint_bytes = 0; ///< size of the last one
+  double checkpoint_seconds = 0;    ///< wall time spent writing them (part of phases.output)
 };
 
 /// Where the step loop stands between two steps: what is due next and what was emitted. Part

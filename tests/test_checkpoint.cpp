@@ -37,7 +37,8 @@ nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(read_
 /// command lines that made it.
 nlohmann::json physics_of(nlohmann::json j) {
   for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases", "threads",
-                          "scene_sources", "checkpoint", "checkpoint_time"})
+                          "scene_sources", "checkpoint", "checkpoint_time", "checkpoints_written",
+                          "checkpoint_bytes", "checkpoint_seconds"})
     j.erase(key);
   return j;
 }
