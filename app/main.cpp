@@ -29,6 +29,7 @@ namespace {
 
 const char* kUsage =
     "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
+    "       brittle run --resume RUN_DIR [--set run.end_time=T]  (continue a stopped run)\n"
     "       brittle run --help      (every scene key with default, unit and meaning)\n"
     "       brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T,...] [--field F ...] "
     "[--set render.key=value ...] [--out DIR]\n"
