@@ -80,6 +80,7 @@ class StateReader {
   void raw(T* data, std::size_t count) {
     static_assert(std::is_trivially_copyable_v<T>);
     check(count, sizeof(T));
+    if (count == 0) return;  // data may be null (an empty vector)
     std::memcpy(static_cast<void*>(data), p_, count * sizeof(T));
     p_ += count * sizeof(T);
   }
