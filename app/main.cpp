@@ -49,6 +49,9 @@ class Progress : public brittle::Observer {
   explicit Progress(bool profile) : profile_(profile) {}
   void on_start(const brittle::Simulation& sim) override {
     start_ = last_ = std::chrono::steady_clock::now();
+    if (sim.resumed())
+      std::fprintf(stderr, "brittle: resumed from the checkpoint at t = %.4g s, step %ld\n",
+                   sim.time(), sim.steps());
     std::fprintf(stderr, "brittle: %lld nodes, %lld tets, dt = %.4g s, %ld steps to %.4g s\n",
                  static_cast<long long>(sim.grid().num_points()),
                  static_cast<long long>(sim.grid().num_cells()), sim.dt(),

@@ -114,6 +114,11 @@ class RenderObserver : public Observer {
     seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
+  /// The render times up to the checkpoint were rendered by the run that wrote it.
+  void on_resume(const Simulation& sim) override {
+    while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) ++next_;
+  }
+
   void on_finish(const Simulation&, const RunSummary&) override {
     if (frames_ > 0)
       std::fprintf(stderr, "brittle: %d PNG frames in %s (%.3f s per frame)\n", frames_,
@@ -137,23 +142,6 @@ std::string percent(double load) {
 
 }  // namespace
 
-void add_render_times_to_frames(Scene& scene) {
-  if (scene.render.times.empty()) return;
-  OutputParams& o = scene.output;
-  std::vector<double> times = o.frame_times;
-  if (times.empty() && o.frame_interval > 0) {  // the grid Simulation::frame_times would use
-    const long n =
-        static_cast<long>(std::floor(scene.run.end_time / o.frame_interval * (1 + 1e-12)));
-    for (long k = 0; k <= n; ++k) times.push_back(k * o.frame_interval);
-  }
-  times.insert(times.end(), scene.render.times.begin(), scene.render.times.end());
-  std::sort(times.begin(), times.end());
-  times.erase(
-      std::unique(times.begin(), times.end(),
-                  [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
-      times.end());
-  o.frame_times = times;
-}
 
 std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
   if (scene.render.times.empty()) return nullptr;

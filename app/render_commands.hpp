@@ -11,11 +11,6 @@
 
 namespace brittle {
 
-/// Adds render.times to the frame times (output.frame_times, or the frame_interval grid made
-/// explicit), so that every rendered instant is an on_frame event and is also kept as VTU.
-/// No change when render.times is empty.
-void add_render_times_to_frames(Scene& scene);
-
 /// The observer that writes <render.directory or output.directory/render>/<field>_<t>us.png at
 /// each render time; null when render.times is empty.
 std::unique_ptr<Observer> make_render_observer(const Scene& scene);

@@ -34,7 +34,6 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
 
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
                      const std::atomic<int>* stop) {
-  add_render_times_to_frames(scene);  // [render] times are frames too
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
   return run_simulation(sim, extra, stop);
@@ -57,7 +56,6 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   sets.insert(sets.end(), overrides.begin(), overrides.end());
   Scene scene = load_scene(files, sets);
   scene.output.directory = directory;
-  add_render_times_to_frames(scene);
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
   restore_checkpoint(sim, path);
@@ -65,7 +63,6 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
 }
 
 void dry_run(Scene scene, std::ostream& out) {
-  add_render_times_to_frames(scene);
   auto mesh = make_mesh(scene);
   const Simulation sim(scene, *mesh);
   const double tets = static_cast<double>(sim.grid().num_cells());

@@ -222,19 +222,29 @@ void Simulation::update_output_fields() {
   grid_.mark_modified();
 }
 
-std::vector<double> Simulation::frame_times() const {
-  const OutputParams& o = scene_.output;
-  const double end = scene_.run.end_time;
+std::vector<double> frame_times(const Scene& scene) {
+  const OutputParams& o = scene.output;
+  const double end = scene.run.end_time;
   std::vector<double> times;
   if (!o.frame_times.empty()) {
-    for (double t : o.frame_times)
-      if (t <= end * (1 + 1e-12)) times.push_back(t);
+    times = o.frame_times;
   } else if (o.frame_interval > 0) {
     const long n = static_cast<long>(std::floor(end / o.frame_interval * (1 + 1e-12)));
     for (long k = 0; k <= n; ++k) times.push_back(k * o.frame_interval);
   }
+  if (!scene.render.times.empty()) {  // [render] times are frames too
+    times.insert(times.end(), scene.render.times.begin(), scene.render.times.end());
+    std::sort(times.begin(), times.end());
+    times.erase(
+        std::unique(times.begin(), times.end(),
+                    [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
+        times.end());
+  }
+  std::erase_if(times, [end](double t) { return t > end * (1 + 1e-12); });
   return times;
 }
+
+std::vector<double> Simulation::frame_times() const { return brittle::frame_times(scene_); }
 
 RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   RunSummary summary;

@@ -92,6 +92,10 @@ struct RunProgress {
 
 class Simulation;
 
+/// Frame times: output.frame_times, or every output.frame_interval, and the render.times (PNGs
+/// are rendered from frames), within [0, run.end_time], ascending, without repeats.
+std::vector<double> frame_times(const Scene& scene);
+
 /// Hooks called by Simulation::run. on_step runs every step: keep it cheap.
 class Observer {
  public:
@@ -189,7 +193,7 @@ class Simulation {
   /// Fills the derived output fields (displacement, sigma1/sigma_c, time) of the grid.
   void update_output_fields();
 
-  /// Frame times from output.frame_times or output.frame_interval, within [0, end_time].
+  /// frame_times(scene()).
   std::vector<double> frame_times() const;
 
  private:

@@ -249,11 +249,10 @@ TEST_F(Render, RenderCommandErrors) {
 TEST(RenderKeys, RenderTimesBecomeFrames) {
   brittle::Scene scene = small_scene({"output.frame_interval=1e-6", "run.end_time=3e-6",
                                       "render.times=1.5e-6, 2e-6"});
-  brittle::add_render_times_to_frames(scene);
+  const std::vector<double> frames = brittle::frame_times(scene);
   const std::vector<double> expected = {0, 1e-6, 1.5e-6, 2e-6, 3e-6};
-  ASSERT_EQ(scene.output.frame_times.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i)
-    EXPECT_NEAR(scene.output.frame_times[i], expected[i], 1e-15);
+  ASSERT_EQ(frames.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(frames[i], expected[i], 1e-15);
 }
 
 TEST(RenderKeys, RangesAndFieldsAreChecked) {
