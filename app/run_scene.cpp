@@ -22,6 +22,12 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
   const Scene& scene = sim.scene();
   sim.set_stop_flag(stop);
   std::filesystem::create_directories(scene.output.directory);
+  // A checkpoint left by an earlier run into this directory is not this run's state (a fresh
+  // run), nor is a half-written one (a run killed while writing it).
+  const std::string checkpoint = checkpoint_path(scene.output.directory);
+  std::error_code ec;
+  if (!sim.resumed()) std::filesystem::remove(checkpoint, ec);
+  std::filesystem::remove(checkpoint + ".tmp", ec);
   OutputWriters writers(sim);
   std::vector<Observer*> observers = writers.observers();
   const auto renderer = make_render_observer(scene);  // null without render.times

@@ -187,9 +187,10 @@ TEST(Checkpoint, KillDuringAWriteLeavesThePreviousCheckpoint) {
   const brittle::CheckpointHeader h =
       brittle::read_checkpoint_header((dir / "part/checkpoint.bin").string());
   EXPECT_NEAR(h.time, 2e-6, 0.1e-6);
-  r = run_brittle(dir, {"run", "--resume", (dir / "part").string()});
+  r = run_brittle(dir, {"run", "--resume", (dir / "part").string(), "--set",
+                        "output.checkpoint_interval=0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_FALSE(fs::exists(dir / "part/checkpoint.bin.tmp"));
+  EXPECT_FALSE(fs::exists(dir / "part/checkpoint.bin.tmp")) << "the half-written one is removed";
   EXPECT_TRUE(read_text(dir / "full/energies.csv") == read_text(dir / "part/energies.csv"));
   EXPECT_TRUE(read_text(dir / "full/frames/frame_0005.vtu") ==
               read_text(dir / "part/frames/frame_0005.vtu"));
@@ -246,4 +247,10 @@ TEST(Checkpoint, RefusesAnotherSceneVersionOrADamagedFile) {
   std::ofstream(ck, std::ios::binary | std::ios::trunc) << good;
   r = run_brittle(dir, {"run", "--resume", out.string(), "--set", "run.end_time=1.2e-6"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
+
+  // A fresh run into the directory removes the earlier run's checkpoint: it is not its state.
+  r = run_brittle(dir, {"run", scene, "--out", out.string(), "--set", "run.end_time=0.5e-6",
+                        "--set", "output.vtu=false"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(ck));
 }
