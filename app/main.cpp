@@ -1,12 +1,10 @@
 // brittle: command line entry point. Parses the scene, builds the simulation, attaches the
 // writers, runs, and maps errors to a one-line message and a non-zero exit code.
-#include <signal.h>
 #include <unistd.h>
 #include <vtkObject.h>
 
 #include <atomic>
 #include <boost/program_options.hpp>
-#include <csignal>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -21,6 +19,7 @@
 #include "run_scene.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
+#include "stop_signal.hpp"
 #include "sweep.hpp"
 
 namespace po = boost::program_options;
@@ -109,10 +108,6 @@ class Progress : public brittle::Observer {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
-/// SIGINT/SIGTERM: the first asks the run to stop after its step (checkpoint, last frame,
-/// summary "interrupted"); a second one ends the process at once.
-std::atomic<int> stop_signal{0};
-
 /// The end of `brittle run`: what was written, and for a stopped run how to go on; exit code
 /// 128 + the signal (130 SIGINT, 143 SIGTERM) for a stopped run, else 0.
 int finish_run(const brittle::RunSummary& summary, const std::string& directory) {
@@ -121,25 +116,9 @@ int finish_run(const brittle::RunSummary& summary, const std::string& directory)
   std::cerr << "brittle: stopped at t = " << summary.time << " s (step " << summary.steps
             << "); checkpoint " << summary.checkpoint << "; continue with: brittle run --resume "
             << directory << "\n";
-  return 128 + stop_signal.load();
+  return 128 + brittle::stop_signal().load();
 }
 
-
-extern "C" void on_stop_signal(int sig) {
-  if (stop_signal.exchange(sig) != 0) {
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);
-  }
-}
-
-void install_stop_handlers() {
-  static_assert(std::atomic<int>::is_always_lock_free);  // safe in a signal handler
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 int run_command(const std::vector<std::string>& args) {
   po::options_description opts("brittle run options");
@@ -168,8 +147,8 @@ int run_command(const std::vector<std::string>& args) {
     BRITTLE_CHECK(files.empty() && out.empty() && !vm.count("dry-run"), "brittle run --resume ",
                   dir, ": scene files, --out and --dry-run do not go with --resume (the scene is "
                   "the checkpoint's; expected only --set run.end_time=T / run.threads=N)");
-    install_stop_handlers();
-    return finish_run(brittle::resume_run(dir, sets, {&progress}, &stop_signal), dir);
+    brittle::install_stop_handlers();
+    return finish_run(brittle::resume_run(dir, sets, {&progress}, &brittle::stop_signal()), dir);
   }
   BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (",
                 "usage: brittle run "
@@ -180,8 +159,8 @@ int run_command(const std::vector<std::string>& args) {
     brittle::dry_run(scene, std::cout);
     return 0;
   }
-  install_stop_handlers();
-  return finish_run(brittle::run_scene(scene, {&progress}, &stop_signal), scene.output.directory);
+  brittle::install_stop_handlers();
+  return finish_run(brittle::run_scene(scene, {&progress}, &brittle::stop_signal()), scene.output.directory);
 }
 
 }  // namespace

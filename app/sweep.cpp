@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +26,7 @@
 #include "figures.hpp"
 #include "lists.hpp"
 #include "paths.hpp"
+#include "stop_signal.hpp"
 
 extern char** environ;
 
@@ -56,8 +59,15 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  // Its own process group: a Ctrl-C at the terminal reaches the sweep only, which passes one
+  // stop request on (run_sweep); the run would take a second one as "stop at once".
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   BRITTLE_CHECK(rc == 0, "sweep: cannot start '", exe, "' (error ", rc, ")");
   return pid;
@@ -179,10 +189,21 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
     dirs.push_back(dir);
     ++next;
   };
+  // A stop request (SIGINT/SIGTERM, stop_signal.hpp) is passed to the running runs, which
+  // stop with a checkpoint; no more are started.
+  bool passed_on = false;
   while (next < o.loads.size() || !running.empty()) {
-    while (next < o.loads.size() && static_cast<int>(running.size()) < jobs) start_next();
+    const int stop = stop_signal().load();
+    if (stop && !passed_on) {
+      for (const auto& [pid, index] : running) kill(pid, stop);
+      passed_on = true;
+    }
+    while (!stop && next < o.loads.size() && static_cast<int>(running.size()) < jobs)
+      start_next();
+    if (running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0 && errno == EINTR) continue;  // a signal: look at the flag again
     BRITTLE_CHECK(pid > 0, "sweep: waiting for the runs failed");
     running.erase(pid);
   }
@@ -190,6 +211,12 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     points.push_back(read_run(dirs[i]));
     if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
+  }
+  for (std::size_t i = dirs.size(); i < o.loads.size(); ++i) {
+    SweepPoint p;
+    p.load = o.loads[i];
+    p.status = "not started: the sweep was stopped";
+    points.push_back(p);
   }
   write_sweep_csv(o.out + "/sweep.csv", points);
   return points;
@@ -220,6 +247,7 @@ int sweep_command(const std::vector<std::string>& args) {
   po::notify(vm);
   o.loads = parse_loads(loads);
   BRITTLE_CHECK(o.jobs >= 0, "--jobs ", o.jobs, " is out of range (expected >= 0)");
+  install_stop_handlers();
   const auto points = run_sweep(o);
   bool all_completed = true;
   for (const SweepPoint& p : points) {
@@ -234,6 +262,11 @@ int sweep_command(const std::vector<std::string>& args) {
   write_speed_chart(o.out + "/sweep.png", "Crack speed against strain energy: " + label,
                     {{label, points}});
   std::printf("wrote %s/sweep.csv and sweep.png\n", o.out.c_str());
+  if (const int stop = stop_signal().load()) {
+    std::fprintf(stderr, "brittle: sweep stopped; the runs that were running stopped with a "
+                 "checkpoint (brittle run --resume DIR continues one)\n");
+    return 128 + stop;
+  }
   BRITTLE_CHECK(all_completed, "sweep: some runs failed (see sweep.csv and their run.log)");
   return 0;
 }

@@ -254,3 +254,25 @@ TEST(Checkpoint, RefusesAnotherSceneVersionOrADamagedFile) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(ck));
 }
+
+// A stopped sweep passes the request on to its runs (each stops with a checkpoint), starts no
+// more, writes sweep.csv with every load and exits 130.
+TEST(Checkpoint, SigintStopsASweepAndItsRuns) {
+  TempDir dir;
+  const fs::path out = dir / "sweep";
+  Background sweep(dir, {"sweep", kScenes + "cm.ini", "--loads", "0.6,0.7,0.8", "--jobs", "2",
+                         "--set", "run.end_time=400e-6", "--out", out.string()});
+  ASSERT_TRUE(wait_for_lines(out / "load_0.600/energies.csv", 10)) << sweep.err();
+  ASSERT_TRUE(wait_for_lines(out / "load_0.700/energies.csv", 10)) << sweep.err();
+  sweep.signal(SIGINT);
+  EXPECT_EQ(sweep.wait(), 130) << sweep.err();
+  const std::string csv = read_text(out / "sweep.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;
+  EXPECT_TRUE(contains(csv, "0.8,nan")) << csv;
+  EXPECT_TRUE(contains(csv, "not started")) << csv;
+  for (const char* load : {"load_0.600", "load_0.700"}) {
+    EXPECT_EQ(summary(out / load).at("status"), "interrupted") << load;
+    EXPECT_TRUE(fs::exists(out / load / "checkpoint.bin")) << load;
+  }
+  EXPECT_FALSE(fs::exists(out / "load_0.800"));
+}
