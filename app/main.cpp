@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "analyze.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
@@ -34,6 +35,8 @@ const char* kUsage =
     "[--set render.key=value ...] [--out DIR]\n"
     "       brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n"
     "       brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V]\n"
+    "       brittle analyze RUN_DIR [--min-branch-length L]  (branches, crack area; "
+    "docs/crack_pattern.md)\n"
     "       brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]  (Figs. "
     "5-10)\n"
     "       brittle figure SCENE.ini [MORE.ini ...] [--set ...] [--runs DIR] [--out DIR] "
@@ -193,6 +196,7 @@ int main(int argc, char** argv) {
     if (args[0] == "figure") return brittle::figure_command({args.begin() + 1, args.end()});
     if (args[0] == "chart") return brittle::chart_command({args.begin() + 1, args.end()});
     if (args[0] == "tips") return brittle::tips_command({args.begin() + 1, args.end()});
+    if (args[0] == "analyze") return brittle::analyze_command({args.begin() + 1, args.end()});
     if (args[0] == "reproduce") return brittle::reproduce_command({args.begin() + 1, args.end()});
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;

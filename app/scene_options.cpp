@@ -311,6 +311,10 @@ const std::vector<Key>& scene_keys() {
           return Verdict::ok;
         }));
     k.back().type_word = "a list of numbers";
+    k.push_back(field("fracture.min_branch_length", &Scene::fracture, &FP::min_branch_length, "m",
+                      "crack pattern (branches.csv): crack tracks shorter than this are spurs, "
+                      "not branches (0 = the tracker's join distance, 4 element sizes)",
+                      ">= 0", non_negative));
     // [damage] — continuum damage (SPEC 6, paper section 5)
     k.push_back(field("damage.beta1", &Scene::damage, &DP::beta1, "1/s",
                       "damage rate (5.2); 0 = no damage, paper: 5e6", ">= 0", non_negative));

@@ -127,10 +127,9 @@ template <class Ar>
 void Simulation::state(Ar& ar) {
   io_all(ar, time_, dt_, initial_dt_, steps_, dt_reductions_, substep_cap_steps_,
          viscous_dissipated_, damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
-         split_events_, progress_);
+         events_, progress_);
   io_all(ar, grid_, assembler_, links_, fracture_, damage_, boundary_);
   if constexpr (Ar::loading) {
-    BRITTLE_CHECK(split_events_.size() % 3 == 0, ar.what(), ": damaged split list");
     rebuild_fronts();
   }
 }
@@ -181,7 +180,8 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("initial", s.initial.state, s.initial.velocities);
   section("boundary", s.boundaries);
   FractureParams& f = s.fracture;
-  section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region);
+  section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
+          f.min_branch_length);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
   section("run", s.run.cfl);
@@ -246,8 +246,8 @@ CheckpointFile load_file(const std::string& path) {
 
 void Simulation::rebuild_fronts() {
   fronts_ = make_crack_fronts();
-  for (std::size_t i = 0; i + 2 < split_events_.size(); i += 3)
-    fronts_.on_split(split_events_[i], split_events_[i + 1], split_events_[i + 2]);
+  for (const CrackEvent& e : events_)
+    if (e.kind == CrackEvent::Kind::split) fronts_.on_split(e.t, e.x, e.y);
 }
 
 void StateWriter::write_out(const void* data, std::size_t size) {

@@ -185,8 +185,9 @@ void CohesiveLinks::end_step(double dt) {
 
 std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
   const std::size_t before = links_.size();
+  removed_.clear();
   for (const CohesiveLink& l : links_)
-    if (l.broken()) removed_dissipated_ += l.dissipated;
+    if (l.broken()) removed_dissipated_ += l.dissipated, removed_.push_back(l);
   std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });
   if (links_.size() != before) refresh_linked(num_points);
   return before - links_.size();

@@ -111,8 +111,10 @@ class CohesiveLinks {
   void end_step(double dt);
 
   /// Removes the links whose omega reached 1; what they dissipated stays in the budget.
-  /// Returns how many went.
+  /// Returns how many went; removed() lists them (in link order) until the next call.
   std::size_t remove_broken(vtkIdType num_points);
+  /// The links the last remove_broken took away.
+  const std::vector<CohesiveLink>& removed() const { return removed_; }
 
   double stored_energy() const;      ///< sum of V_c over live links (3.1)
   double dissipated_energy() const;  ///< integral of D_c, removed links included (3.3)
@@ -132,6 +134,7 @@ class CohesiveLinks {
   std::vector<double> delta_start_;  // per link, at begin_step
   std::vector<double> impulse_;      // per link: the prepared kick's dv of a (3) and b (3)
   double removed_dissipated_ = 0;
+  std::vector<CohesiveLink> removed_;  // by the last remove_broken (not state: cleared first)
 };
 
 }  // namespace brittle

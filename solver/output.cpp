@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "crack_pattern.hpp"
 #include "error.hpp"
 
 namespace fs = std::filesystem;
@@ -328,6 +329,7 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   if (sim.scene().output.vtu) writers_.push_back(std::make_unique<VtuSeriesWriter>(dir));
   writers_.push_back(std::make_unique<EnergyCsvWriter>(dir, sim.resumed()));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
+  if (sim.fracture().enabled()) writers_.push_back(std::make_unique<PatternWriter>(dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));
 }
 

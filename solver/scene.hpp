@@ -91,6 +91,9 @@ struct FractureParams {
   /// Where nodes may break: x_min, x_max, y_min, y_max of the reference position [m];
   /// empty = anywhere (fixed nodes never break).
   std::vector<double> region;
+  /// crack pattern: tracks shorter than this are spurs, not branches [m] (0 = the tracker's
+  /// join distance, 4 typical element sizes)
+  double min_branch_length = 0;
 };
 
 /// Continuum damage (SPEC 6, paper section 5). beta1 = 0 switches it off.

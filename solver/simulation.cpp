@@ -130,10 +130,15 @@ void Simulation::step() {
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
+  const double* X = grid_.X();
+  for (const CohesiveLink& l : links_.removed())
+    events_.push_back({time_, X[3 * l.a], X[3 * l.a + 1], X[3 * l.a + 2],
+                       CrackEvent::Kind::link_failure, l.dissipated, l.A_c, l.a, l.b});
   for (const SplitRecord& split : r.splits) {
-    const double X = grid_.X()[3 * split.a], Y = grid_.X()[3 * split.a + 1];
-    fronts_.on_split(time_, X, Y);
-    split_events_.insert(split_events_.end(), {time_, X, Y});
+    const double* p = X + 3 * split.a;
+    fronts_.on_split(time_, p[0], p[1]);
+    events_.push_back({time_, p[0], p[1], p[2], CrackEvent::Kind::split, 0.0, split.A_c, split.a,
+                       split.b});
   }
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();

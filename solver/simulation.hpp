@@ -23,6 +23,20 @@
 
 namespace brittle {
 
+/// One entry of the event catalogue (events.csv; docs/acoustic_emission.md): a node split or
+/// a cohesive link that failed (omega reached 1), at its reference position.
+struct CrackEvent {
+  enum class Kind : std::int32_t { split, link_failure };
+  double t = 0;          ///< time of the step that ended with it [s]
+  double x = 0, y = 0, z = 0;  ///< reference position of node a [m]
+  Kind kind = Kind::split;
+  /// link failure: the energy the link dissipated over its life, integral of D_c (3.3) [J];
+  /// split: 0 (a split releases nothing at once: its link starts at f0, (2.6))
+  double energy = 0;
+  double area = 0;       ///< A_c of the split's or the failed link's crack area, both faces [m^2]
+  vtkIdType a = -1, b = -1;  ///< the daughters (split) / the link's nodes
+};
+
 /// The energy budget (SPEC 7) at one instant; grows terms as mechanisms are added.
 struct Energies {
   double time = 0;
@@ -181,6 +195,8 @@ class Simulation {
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
   /// Every crack tip, branching and nucleation so far (docs/crack_fronts.md).
   const CrackFronts& fronts() const { return fronts_; }
+  /// Every split and link failure so far, in order (the event catalogue).
+  const std::vector<CrackEvent>& events() const { return events_; }
 
   /// Kinetic, elastic and dissipated energies now (sums over fixed blocks: deterministic).
   Energies energies() const;
@@ -219,9 +235,9 @@ class Simulation {
   mutable double energy_reference_ = 0;  // running max of kinetic + elastic (energies())
   std::vector<std::string> step_warnings_;
   CrackFronts make_crack_fronts() const;
-  void rebuild_fronts();  // from split_events_ (checkpoint.cpp)
-  /// (t, X, Y) of every split in order: the crack fronts are rebuilt from it on restore.
-  std::vector<double> split_events_;
+  void rebuild_fronts();  // from the splits of events_ (checkpoint.cpp)
+  /// Every split and link failure in order (the crack fronts are rebuilt from it on restore).
+  std::vector<CrackEvent> events_;
   RunProgress progress_;
   const std::atomic<int>* stop_flag_ = nullptr;
   bool resumed_ = false;

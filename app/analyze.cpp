@@ -1,0 +1,97 @@
+// `brittle analyze RUN_DIR`: crack pattern metrics from a run's event catalogue.
+#include "analyze.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "command_line.hpp"
+#include "crack_pattern.hpp"
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+/// A finite number at `key` of `j`, else an error naming the file and key.
+double number_at(const nlohmann::json& j, const char* key, const std::string& file) {
+  const auto it = j.find(key);
+  BRITTLE_CHECK(it != j.end() && it->is_number() && std::isfinite(it->get<double>()), file,
+                ": '", key, "' is missing or not a finite number");
+  return it->get<double>();
+}
+
+}  // namespace
+
+int analyze_command(const std::vector<std::string>& args) {
+  namespace po = boost::program_options;
+  po::options_description opts("brittle analyze options");
+  std::vector<std::string> dirs;
+  double min_length = -1;
+  opts.add_options()("help,h", "show this help")(
+      "min-branch-length", po::value(&min_length),
+      "tracks shorter than this are spurs [m] (default: the run's fracture.min_branch_length)")(
+      "run", po::value(&dirs)->composing(), "run directory");
+  auto vm = parse_command_line(args, opts, "run");
+  if (vm.count("help")) {
+    std::printf("usage: brittle analyze RUN_DIR [--min-branch-length L]\n");
+    std::ostringstream text;
+    text << opts;
+    std::printf("%s", text.str().c_str());
+    return 0;
+  }
+  po::notify(vm);
+  BRITTLE_CHECK(dirs.size() == 1, "brittle analyze: expected one run directory (usage: brittle "
+                                  "analyze RUN_DIR [--min-branch-length L])");
+  const std::string dir = dirs.front();
+  const std::string file = dir + "/pattern.json";
+  nlohmann::json j;
+  {
+    std::ifstream in(file);
+    BRITTLE_CHECK(in, "brittle analyze: '", file,
+                  "' cannot be read (expected the directory of a fracture run)");
+    try {
+      j = nlohmann::json::parse(in);
+    } catch (const std::exception&) {
+      throw Error(error_message("brittle analyze: '", file, "' is not valid JSON"));
+    }
+  }
+  BRITTLE_CHECK(j.contains("tracker") && j["tracker"].is_object() && j.contains("seeds") &&
+                    j["seeds"].is_array() && j.contains("area_against_advance") &&
+                    j["area_against_advance"].is_array(),
+                "brittle analyze: '", file, "' lacks 'tracker', 'seeds' or 'area_against_advance'");
+  const nlohmann::json& tracker = j["tracker"];
+  const double join = number_at(tracker, "join", file);
+  const double separation = number_at(tracker, "separation", file);
+  const double T = number_at(tracker, "thickness", file);
+  if (min_length < 0) min_length = number_at(j, "min_branch_length", file);
+  BRITTLE_CHECK(std::isfinite(min_length), "--min-branch-length ", min_length,
+                " is out of range (expected >= 0 m)");
+  std::vector<FrontSeed> seeds;
+  for (const auto& s : j["seeds"]) {
+    BRITTLE_CHECK(s.is_array() && s.size() == 3 && s[0].is_number() && s[1].is_number() &&
+                      s[2].is_number(),
+                  "brittle analyze: '", file, "': a seed is not [x, y, angle_deg]");
+    seeds.push_back({s[0].get<double>(), s[1].get<double>(), s[2].get<double>()});
+  }
+  std::vector<TipSample> tips;  // the leading tip's advance at the run's sample times
+  for (const auto& a : j["area_against_advance"]) {
+    BRITTLE_CHECK(a.is_array() && a.size() == 4 && a[0].is_number() && a[1].is_number(),
+                  "brittle analyze: '", file, "': an area sample is not [t, advance, area, ratio]");
+    tips.push_back({a[0].get<double>(), 0.0, 0.0, 0, a[1].get<double>()});
+  }
+  const std::vector<CrackEvent> events = read_events_csv(dir + "/events.csv");
+  const CrackFronts fronts = fronts_from_events(events, join, separation, seeds);
+  const CrackPattern p = crack_pattern(fronts, events, tips, T, min_length);
+  write_pattern(dir, p);
+  std::printf("%zu branches (%d spurs shorter than %.3g m), %zu branching points, %zu "
+              "nucleations, %ld splits, %ld link failures; wrote %s/branches.csv, pattern.json\n",
+              p.branches.size(), p.spurs, min_length, p.branchings.size(), p.nucleations.size(),
+              p.splits, p.link_failures, dir.c_str());
+  for (const Branch& b : p.branches)
+    std::printf("  tip %d (%s): from (%.2f, %.2f) mm at %.2f us, %.2f mm at %.1f deg, %.0f m/s\n",
+                b.tip, b.origin.c_str(), 1e3 * b.x_start, 1e3 * b.y_start, 1e6 * b.t_start,
+                1e3 * b.length, b.angle_deg, b.speed);
+  return 0;
+}
+
+}  // namespace brittle

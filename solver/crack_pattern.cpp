@@ -1,0 +1,195 @@
+// Crack pattern metrics and the event catalogue (docs/crack_pattern.md).
+#include "crack_pattern.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "error.hpp"
+#include "output.hpp"
+
+namespace brittle {
+namespace {
+
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+const char* origin_name(TipTrack::Origin o) {
+  return o == TipTrack::Origin::seed ? "notch" : o == TipTrack::Origin::nucleation ? "nucleation"
+                                                                                  : "branch";
+}
+
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+}
+
+}  // namespace
+
+CrackFronts fronts_from_events(const std::vector<CrackEvent>& events, double join,
+                               double separation, const std::vector<FrontSeed>& seeds) {
+  CrackFronts fronts(join, separation);
+  for (const FrontSeed& s : seeds)
+    fronts.add_seed(s.x, s.y, std::cos(s.angle_deg / kDegrees), std::sin(s.angle_deg / kDegrees));
+  for (const CrackEvent& e : events)
+    if (e.kind == CrackEvent::Kind::split) fronts.on_split(e.t, e.x, e.y);
+  return fronts;
+}
+
+CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEvent>& events,
+                           const std::vector<TipSample>& tips, double T, double min_length) {
+  CrackPattern p;
+  p.min_length = min_length;
+  p.join = fronts.join();
+  p.separation = fronts.separation();
+  p.thickness = T;
+  std::vector<int> branch_of(fronts.tips().size(), -1);
+  for (const TipTrack& t : fronts.tips()) {
+    if (t.origin == TipTrack::Origin::seed)
+      p.seeds.push_back({t.x_start, t.y_start, t.start_angle_deg});
+    const double length = t.arc.empty() ? 0.0 : t.arc.back();
+    if (length < min_length) {
+      ++p.spurs;
+      continue;
+    }
+    const TipSample head = fronts.head(t.id);
+    Branch b;
+    b.tip = t.id;
+    b.origin = origin_name(t.origin);
+    b.parent = t.parent;
+    b.t_start = t.t_start, b.x_start = t.x_start, b.y_start = t.y_start;
+    b.t_end = head.t, b.x_end = head.x, b.y_end = head.y;
+    b.length = length;
+    b.angle_deg = kDegrees * std::atan2(head.y - t.y_start, head.x - t.x_start);
+    b.speed = fronts.speed(t.id).speed;
+    p.branches.push_back(b);
+  }
+  p.branchings = fronts.branchings();
+  p.nucleations = fronts.nucleations();
+  for (const CrackEvent& e : events) {
+    if (e.kind == CrackEvent::Kind::split) ++p.splits, p.split_area += e.area;
+    else ++p.link_failures, p.failure_energy += e.energy;
+  }
+  // Area made by the splits up to each tip sample (events and samples are both in time order).
+  std::size_t next = 0;
+  double area = 0;
+  const double s0 = tips.empty() ? 0.0 : tips.front().s;
+  for (const TipSample& s : tips) {
+    for (; next < events.size() && events[next].t <= s.t; ++next)
+      if (events[next].kind == CrackEvent::Kind::split) area += events[next].area;
+    const double advance = s.s - s0;
+    p.area.push_back({s.t, advance, area,
+                      advance > 0 && T > 0 ? area / (2 * T * advance)
+                                           : std::numeric_limits<double>::quiet_NaN()});
+  }
+  return p;
+}
+
+void write_events_csv(const std::string& path, const std::vector<CrackEvent>& events) {
+  std::ostringstream csv;
+  csv << "time,kind,x,y,z,energy,area,node_a,node_b\n" << std::setprecision(17);
+  for (const CrackEvent& e : events)
+    csv << e.t << ',' << (e.kind == CrackEvent::Kind::split ? "split" : "link_failure") << ','
+        << e.x << ',' << e.y << ',' << e.z << ',' << e.energy << ',' << e.area << ',' << e.a << ','
+        << e.b << '\n';
+  write_file_atomically(path, csv.str());
+}
+
+std::vector<CrackEvent> read_events_csv(const std::string& path) {
+  std::ifstream in(path);
+  BRITTLE_CHECK(in, "events '", path, "': cannot be read (expected a run directory's events.csv)");
+  std::string line;
+  BRITTLE_CHECK(std::getline(in, line) && line.starts_with("time,kind,"), "events '", path,
+                "': line 1 is not the events.csv header");
+  std::vector<CrackEvent> events;
+  long number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    std::istringstream row(line);
+    std::string field[9];
+    int n = 0;
+    while (n < 9 && std::getline(row, field[n], ',')) ++n;
+    CrackEvent e;
+    try {
+      BRITTLE_CHECK(n == 9 && (field[1] == "split" || field[1] == "link_failure"), "");
+      e.t = std::stod(field[0]);
+      e.kind = field[1] == "split" ? CrackEvent::Kind::split : CrackEvent::Kind::link_failure;
+      e.x = std::stod(field[2]), e.y = std::stod(field[3]), e.z = std::stod(field[4]);
+      e.energy = std::stod(field[5]), e.area = std::stod(field[6]);
+      e.a = std::stoll(field[7]), e.b = std::stoll(field[8]);
+    } catch (const std::exception&) {
+      throw Error(error_message("events '", path, "': line ", number,
+                                " is not time,kind(split|link_failure),x,y,z,energy,area,node_a,"
+                                "node_b"));
+    }
+    BRITTLE_CHECK(std::isfinite(e.t) && std::isfinite(e.x) && std::isfinite(e.y), "events '",
+                  path, "': line ", number, " has a time or position that is not finite");
+    BRITTLE_CHECK(events.empty() || e.t >= events.back().t, "events '", path, "': line ", number,
+                  " goes back in time");
+    events.push_back(e);
+  }
+  return events;
+}
+
+void write_pattern(const std::string& directory, const CrackPattern& p) {
+  std::ostringstream csv;
+  csv << "tip,origin,parent,t_start,x_start,y_start,t_end,x_end,y_end,length,angle_deg,speed\n"
+      << std::setprecision(12);
+  for (const Branch& b : p.branches)
+    csv << b.tip << ',' << b.origin << ',' << b.parent << ',' << b.t_start << ',' << b.x_start << ','
+        << b.y_start << ',' << b.t_end << ',' << b.x_end << ',' << b.y_end << ',' << b.length << ','
+        << b.angle_deg << ',' << b.speed << '\n';
+  write_file_atomically(directory + "/branches.csv", csv.str());
+
+  nlohmann::ordered_json j;
+  j["branches"] = p.branches.size();
+  j["spurs"] = p.spurs;
+  j["min_branch_length"] = number(p.min_length);
+  j["branching_points"] = nlohmann::ordered_json::array();
+  for (const BranchingEvent& b : p.branchings)
+    j["branching_points"].push_back({{"t", number(b.t)},
+                                     {"x", number(b.x)},
+                                     {"y", number(b.y)},
+                                     {"angle_deg", number(b.angle_deg)},
+                                     {"parent", b.parent},
+                                     {"children", {b.child_a, b.child_b}}});
+  j["nucleations"] = nlohmann::ordered_json::array();
+  for (const Nucleation& n : p.nucleations)
+    j["nucleations"].push_back(
+        {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
+  j["tips"] = nlohmann::ordered_json::array();
+  for (const Branch& b : p.branches)
+    j["tips"].push_back({{"tip", b.tip},
+                         {"origin", b.origin},
+                         {"head", {number(b.t_end), number(b.x_end), number(b.y_end)}},
+                         {"length", number(b.length)},
+                         {"angle_deg", number(b.angle_deg)},
+                         {"speed", number(b.speed)}});
+  j["splits"] = p.splits;
+  j["link_failures"] = p.link_failures;
+  j["crack_area"] = number(p.split_area);
+  j["link_failure_energy"] = number(p.failure_energy);
+  j["area_against_advance"] = nlohmann::ordered_json::array();
+  for (const AreaSample& a : p.area)
+    j["area_against_advance"].push_back(
+        {number(a.t), number(a.advance), number(a.area), number(a.effective)});
+  j["tracker"] = {{"join", number(p.join)},
+                  {"separation", number(p.separation)},
+                  {"thickness", number(p.thickness)}};
+  j["seeds"] = nlohmann::ordered_json::array();
+  for (const FrontSeed& s : p.seeds)
+    j["seeds"].push_back({number(s.x), number(s.y), number(s.angle_deg)});
+  write_file_atomically(directory + "/pattern.json", j.dump(2) + "\n");
+}
+
+void PatternWriter::on_finish(const Simulation& sim, const RunSummary&) {
+  write_events_csv(directory_ + "/events.csv", sim.events());
+  const double min_length = sim.scene().fracture.min_branch_length > 0
+                                ? sim.scene().fracture.min_branch_length
+                                : sim.fronts().join();
+  write_pattern(directory_, crack_pattern(sim.fronts(), sim.events(), sim.tip_samples(),
+                                          sim.scene().geometry.T, min_length));
+}
+
+}  // namespace brittle
