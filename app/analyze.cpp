@@ -1,10 +1,16 @@
 // `brittle analyze RUN_DIR`: crack pattern metrics from a run's event catalogue.
 #include "analyze.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <sstream>
+#include <tuple>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "chart.hpp"
 #include "command_line.hpp"
 #include "crack_pattern.hpp"
 #include "error.hpp"
@@ -18,6 +24,72 @@ double number_at(const nlohmann::json& j, const char* key, const std::string& fi
   BRITTLE_CHECK(it != j.end() && it->is_number() && std::isfinite(it->get<double>()), file,
                 ": '", key, "' is missing or not a finite number");
   return it->get<double>();
+}
+
+/// The axis range of values, with a margin (a flat series gets a unit range).
+std::pair<double, double> range_of(const std::vector<double>& v) {
+  if (v.empty()) return {0, 1};
+  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  const double pad = *hi > *lo ? 0.05 * (*hi - *lo) : 1.0;
+  return {*lo - pad, *hi + pad};
+}
+
+/// One-series chart (VTK charts, off-screen) into `path`.
+void chart(const std::string& path, const std::string& title, const std::string& x_title,
+           const std::string& y_title, std::vector<render::ChartSeries> series) {
+  std::vector<double> xs, ys;
+  for (const auto& s : series) xs.insert(xs.end(), s.x.begin(), s.x.end()), ys.insert(ys.end(), s.y.begin(), s.y.end());
+  render::ChartAxes axes;
+  axes.title = title, axes.x_title = x_title, axes.y_title = y_title;
+  std::tie(axes.x_min, axes.x_max) = range_of(xs);
+  std::tie(axes.y_min, axes.y_max) = range_of(ys);
+  render::write_chart_png(path, axes, series);
+}
+
+/// events_energy.png, events_rate.png and, with sensors, spectra.png (docs/acoustic_emission.md).
+void draw_charts(const std::string& dir, const CrackPattern& p) {
+  const EnergyDistribution& d = p.distribution;
+  if (!d.count.empty()) {
+    render::ChartSeries bins{"link failures per bin", {}, {}, render::ChartSeries::Style::points};
+    for (std::size_t i = 0; i < d.count.size(); ++i)
+      if (d.count[i] > 0) {
+        bins.x.push_back(std::log10(std::sqrt(d.bin_low[i] * d.bin_high[i])));
+        bins.y.push_back(std::log10(static_cast<double>(d.count[i])));
+      }
+    char title[160];
+    std::snprintf(title, sizeof title,
+                  "Link-failure energies: dN/dE ~ E^-%.2f (r2 %.2f over %d bins; %s)", d.exponent,
+                  d.r2, d.fitted_bins, d.power_law ? "a power law fits" : "no power law");
+    chart(dir + "/events_energy.png", title, "log10 energy [J]", "log10 events per bin (5/decade)",
+          {bins});
+  }
+  if (!d.rate.empty()) {
+    render::ChartSeries rate{"link failures", {}, {}, render::ChartSeries::Style::line};
+    for (std::size_t i = 0; i < d.rate.size(); ++i)
+      rate.x.push_back(1e6 * d.rate_time[i]), rate.y.push_back(1e-6 * d.rate[i]);
+    chart(dir + "/events_rate.png", "Event rate", "time [us]", "link failures per us", {rate});
+  }
+  std::ifstream in(dir + "/spectra.csv");
+  std::string header;
+  if (!in || !std::getline(in, header)) return;
+  std::vector<std::string> names;
+  std::istringstream h(header);
+  for (std::string name; std::getline(h, name, ',');) names.push_back(name);
+  std::vector<render::ChartSeries> series(names.size() > 1 ? names.size() - 1 : 0);
+  const std::array<std::array<unsigned char, 3>, 4> colours = {
+      {{0, 0, 0}, {200, 30, 30}, {30, 90, 200}, {30, 150, 60}}};
+  for (std::size_t i = 0; i < series.size(); ++i)
+    series[i] = {names[i + 1], {}, {}, render::ChartSeries::Style::line, colours[i % 4]};
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream row(line);
+    std::string field;
+    std::getline(row, field, ',');
+    const double f = std::stod(field) * 1e-3;
+    for (auto& s : series) std::getline(row, field, ','), s.x.push_back(f), s.y.push_back(std::stod(field));
+  }
+  if (!series.empty())
+    chart(dir + "/spectra.png", "Sensor amplitude spectra (Hann window)", "frequency [kHz]",
+          "amplitude [m/s]", series);
 }
 
 }  // namespace
@@ -83,8 +155,10 @@ int analyze_command(const std::vector<std::string>& args) {
   const CrackFronts fronts = fronts_from_events(events, join, separation, seeds);
   const CrackPattern p = crack_pattern(fronts, events, tips, T, min_length);
   write_pattern(dir, p);
+  draw_charts(dir, p);
   std::printf("%zu branches (%d spurs shorter than %.3g m), %zu branching points, %zu "
-              "nucleations, %ld splits, %ld link failures; wrote %s/branches.csv, pattern.json\n",
+              "nucleations, %ld splits, %ld link failures; wrote %s/branches.csv, pattern.json "
+              "and charts\n",
               p.branches.size(), p.spurs, min_length, p.branchings.size(), p.nucleations.size(),
               p.splits, p.link_failures, dir.c_str());
   for (const Branch& b : p.branches)

@@ -477,14 +477,14 @@ std::string lower(std::string s) {
   const std::string section = dot == std::string::npos ? std::string() : name.substr(0, dot);
   if (dot == std::string::npos) {
     msg += " (keys belong in a [section] or are written section.key)";
-  } else if (section == "boundary" || section == "notch" ||
+  } else if (section == "boundary" || section == "notch" || section == "sensor" ||
              (section == "initial" && !find_key(name) && name != "initial.state")) {
     msg += " (keys of [" + section + ".NAME] go in a named section, e.g. [" + section +
            ".a], i.e. " + section + ".a." + name.substr(dot + 1) + ")";
   } else if (!is_known_section(section)) {
     msg += " (no section [" + section + "]; sections are";
     for (const auto& s : known_sections()) msg += " [" + s + "]";
-    msg += " [boundary.NAME] [initial.NAME] [notch.NAME])";
+    msg += " [boundary.NAME] [initial.NAME] [notch.NAME] [sensor.NAME])";
   } else {
     // Only a trivial suggestion: same section, one typo away or differing in case.
     const std::string key = name.substr(dot + 1);
@@ -553,6 +553,8 @@ const std::vector<NamedKey>& named_keys() {
       {"initial", "box", "m", "as boundary.box"},
       {"initial", "group", "", "as boundary.group"},
       {"initial", "velocity", "m/s", "vx, vy, vz at t = 0"},
+      {"sensor", "position", "m", "x, y, z: the node nearest to it records (put it on a surface)"},
+      {"sensor", "direction", "", "nx, ny, nz: the velocity component recorded (normalised)"},
   };
   return keys;
 }
@@ -572,7 +574,8 @@ std::optional<std::array<std::string, 3>> split_named(const std::string& full) {
   if (a == std::string::npos || a == b || a == 0 || b == a + 1 || b + 1 == full.size())
     return std::nullopt;
   const std::string kind = full.substr(0, a);
-  if (kind != "boundary" && kind != "initial" && kind != "notch") return std::nullopt;
+  if (kind != "boundary" && kind != "initial" && kind != "notch" && kind != "sensor")
+    return std::nullopt;
   return std::array<std::string, 3>{kind, full.substr(a + 1, b - a - 1), full.substr(b + 1)};
 }
 
@@ -672,6 +675,16 @@ void read_named_sections(const std::vector<NamedSection>& sections, Scene& scene
         n.shape = r.word("shape", {"wedge", "slot"}) == "slot" ? NotchParams::Shape::slot
                                                                : NotchParams::Shape::wedge;
       scene.geometry.notches.push_back(n);
+    } else if (s.kind == "sensor") {
+      SensorParams p;
+      p.name = s.name;
+      for (const char* key : {"position", "direction"})
+        r.require(key, "(a sensor has a position and a direction)");
+      const std::vector<double> x = r.numbers("position", 3), n = r.numbers("direction", 3);
+      const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(norm > 0) || !std::isfinite(norm)) r.bad("direction", "is not a direction");
+      for (int d = 0; d < 3; ++d) p.position[d] = x[d], p.direction[d] = n[d] / norm;
+      scene.sensors.push_back(p);
     } else if (s.kind == "initial") {
       InitialVelocityParams v;
       v.name = s.name;

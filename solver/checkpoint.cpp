@@ -154,6 +154,11 @@ void io(Ar& ar, BoundaryParams& b) {
          b.history.table);
 }
 template <class Ar>
+void io(Ar& ar, SensorParams& p) {
+  io_all(ar, p.name, p.position[0], p.position[1], p.position[2], p.direction[0], p.direction[1],
+         p.direction[2]);
+}
+template <class Ar>
 void io(Ar& ar, InitialVelocityParams& v) {
   io_all(ar, v.name, v.region, v.velocity[0], v.velocity[1], v.velocity[2]);
 }
@@ -179,6 +184,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("loading", s.loading.sigma_over_sigmac, s.loading.sigma);
   section("initial", s.initial.state, s.initial.velocities);
   section("boundary", s.boundaries);
+  section("sensor", s.sensors);
   FractureParams& f = s.fracture;
   section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
           f.min_branch_length);

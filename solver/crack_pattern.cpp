@@ -1,6 +1,7 @@
 // Crack pattern metrics and the event catalogue (docs/crack_pattern.md).
 #include "crack_pattern.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -34,6 +35,51 @@ CrackFronts fronts_from_events(const std::vector<CrackEvent>& events, double joi
   for (const CrackEvent& e : events)
     if (e.kind == CrackEvent::Kind::split) fronts.on_split(e.t, e.x, e.y);
   return fronts;
+}
+
+EnergyDistribution energy_distribution(const std::vector<CrackEvent>& events) {
+  EnergyDistribution d;
+  std::vector<double> energy, time;
+  for (const CrackEvent& e : events)
+    if (e.kind == CrackEvent::Kind::link_failure && e.energy > 0)
+      energy.push_back(e.energy), time.push_back(e.t);
+  if (energy.empty()) return d;
+  const auto [lo, hi] = std::minmax_element(energy.begin(), energy.end());
+  constexpr double kPerDecade = 5;
+  const double first = std::floor(std::log10(*lo) * kPerDecade);
+  const int bins = static_cast<int>(std::floor(std::log10(*hi) * kPerDecade) - first) + 1;
+  for (int i = 0; i < bins; ++i) {
+    d.bin_low.push_back(std::pow(10.0, (first + i) / kPerDecade));
+    d.bin_high.push_back(std::pow(10.0, (first + i + 1) / kPerDecade));
+  }
+  d.count.assign(bins, 0);
+  for (double e : energy) {
+    const int i = std::clamp(static_cast<int>(std::floor(std::log10(e) * kPerDecade) - first), 0,
+                             bins - 1);
+    ++d.count[i];
+  }
+  // dN/dE per bin against the bin's geometric centre, in log-log.
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+  for (int i = 0; i < bins; ++i) {
+    if (d.count[i] == 0) continue;
+    const double x = std::log10(std::sqrt(d.bin_low[i] * d.bin_high[i]));
+    const double y = std::log10(d.count[i] / (d.bin_high[i] - d.bin_low[i]));
+    sx += x, sy += y, sxx += x * x, sxy += x * y, syy += y * y, ++d.fitted_bins;
+  }
+  const double n = d.fitted_bins;
+  if (d.fitted_bins >= 3) {
+    const double cov = sxy - sx * sy / n, vx = sxx - sx * sx / n, vy = syy - sy * sy / n;
+    d.exponent = vx > 0 ? -cov / vx : 0.0;
+    d.r2 = vx > 0 && vy > 0 ? cov * cov / (vx * vy) : 0.0;
+  }
+  d.power_law = d.fitted_bins >= 5 && d.r2 >= 0.9;
+  const double t0 = time.front(), t1 = time.back(), width = (t1 - t0) / 20;
+  if (width > 0) {
+    d.rate.assign(20, 0.0);
+    for (double t : time) d.rate[std::min(19, static_cast<int>((t - t0) / width))] += 1 / width;
+    for (int i = 0; i < 20; ++i) d.rate_time.push_back(t0 + (i + 0.5) * width);
+  }
+  return d;
 }
 
 CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEvent>& events,
@@ -70,6 +116,7 @@ CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEve
     if (e.kind == CrackEvent::Kind::split) ++p.splits, p.split_area += e.area;
     else ++p.link_failures, p.failure_energy += e.energy;
   }
+  p.distribution = energy_distribution(events);
   // Area made by the splits up to each tip sample (events and samples are both in time order).
   std::size_t next = 0;
   double area = 0;
@@ -170,6 +217,19 @@ void write_pattern(const std::string& directory, const CrackPattern& p) {
   j["link_failures"] = p.link_failures;
   j["crack_area"] = number(p.split_area);
   j["link_failure_energy"] = number(p.failure_energy);
+  const EnergyDistribution& d = p.distribution;
+  nlohmann::ordered_json dist;
+  dist["bins_per_decade"] = 5;
+  dist["bin_low"] = d.bin_low;
+  dist["bin_high"] = d.bin_high;
+  dist["count"] = d.count;
+  dist["power_law_exponent"] = number(d.exponent);
+  dist["power_law_r2"] = number(d.r2);
+  dist["fitted_bins"] = d.fitted_bins;
+  dist["power_law"] = d.power_law;
+  dist["rate_time"] = d.rate_time;
+  dist["rate"] = d.rate;
+  j["link_failure_energy_distribution"] = dist;
   j["area_against_advance"] = nlohmann::ordered_json::array();
   for (const AreaSample& a : p.area)
     j["area_against_advance"].push_back(

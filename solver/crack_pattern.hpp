@@ -39,6 +39,21 @@ struct AreaSample {
   double effective = 0;
 };
 
+/// The link failures' energies in logarithmic bins, and a power law N(E) ~ E^-b fitted to the
+/// counts per unit energy where there are enough bins; the failure rate against time.
+struct EnergyDistribution {
+  std::vector<double> bin_low, bin_high;  ///< [J], 5 bins per decade
+  std::vector<long> count;
+  double exponent = 0;   ///< b of dN/dE ~ E^-b (least squares in log-log over non-empty bins)
+  double r2 = 0;         ///< of that fit; a power law "fits" when r2 >= 0.9 over >= 5 bins
+  int fitted_bins = 0;
+  bool power_law = false;
+  std::vector<double> rate_time, rate;  ///< bin centres [s] and failures per second, 20 bins
+};
+
+/// The distribution of the link-failure events of a catalogue.
+EnergyDistribution energy_distribution(const std::vector<CrackEvent>& events);
+
 struct CrackPattern {
   double min_length = 0;        ///< branches shorter than this are spurs, not branches [m]
   double join = 0, separation = 0;  ///< the tracker's distances (docs/crack_fronts.md)
@@ -52,6 +67,7 @@ struct CrackPattern {
   long splits = 0, link_failures = 0;
   double split_area = 0;        ///< sum of the splits' A_c [m^2]
   double failure_energy = 0;    ///< sum of the link failures' energies [J]
+  EnergyDistribution distribution;
 };
 
 /// The pattern of a run: `fronts` built from the splits of `events` (or the run's own), the

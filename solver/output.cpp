@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "crack_pattern.hpp"
+#include "sensors.hpp"
 #include "error.hpp"
 
 namespace fs = std::filesystem;
@@ -330,6 +331,8 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   writers_.push_back(std::make_unique<EnergyCsvWriter>(dir, sim.resumed()));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<PatternWriter>(dir));
+  if (!sim.scene().sensors.empty())
+    writers_.push_back(std::make_unique<SensorRecorder>(sim.scene(), dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));
 }
 

@@ -152,6 +152,14 @@ struct InitialVelocityParams {
 /// The state at t = 0: the paper's uniaxial pre-stress (B.6)-(B.9) of [loading], or at rest;
 /// initial velocities on top. With the pre-stress and no [boundary.*] section, the edges
 /// y = +-H/2 are held (the paper's plate).
+/// An acoustic-emission sensor (docs/acoustic_emission.md): the node nearest `position`
+/// records its velocity along `direction` every step.
+struct SensorParams {
+  std::string name;
+  double position[3] = {0, 0, 0};   ///< [m], reference; put it on the plate's surface
+  double direction[3] = {0, 1, 0};  ///< unit vector: the surface normal for a transducer
+};
+
 struct InitialParams {
   enum class State { prestress, rest };
   State state = State::prestress;
@@ -196,6 +204,7 @@ struct Scene {
   LoadingParams loading;
   InitialParams initial;
   std::vector<BoundaryParams> boundaries;
+  std::vector<SensorParams> sensors;
   FractureParams fracture;
   DamageParams damage;
   RunParams run;

@@ -96,14 +96,17 @@ bool wait_for_lines(const fs::path& file, std::size_t lines) {
 TEST(Checkpoint, ResumedRunIsBitwiseTheUninterruptedRun) {
   TempDir dir;
   const std::vector<std::string> overlays{"branching.ini", "damage.ini", "rate-dependent.ini"};
-  // PNGs rendered during the run too: one before the checkpoint, one after.
+  // PNGs rendered during the run too (one before the checkpoint, one after) and a sensor.
   const std::string render = "render.times=1e-6, 5e-6";
+  const std::string sensor = "sensor.top.position=16e-3, 8e-3, 0.5e-3";
+  const std::string normal = "sensor.top.direction=0, 1, 0";
   Result r = run_brittle(dir, run_args(overlays, dir / "full",
-                                       {"run.end_time=6e-6", "run.threads=2", render}));
+                                       {"run.end_time=6e-6", "run.threads=2", render, sensor,
+                                        normal}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_brittle(dir, run_args(overlays, dir / "part",
                                 {"run.end_time=3e-6", "run.threads=1",
-                                 "output.checkpoint_interval=1e-6", render}));
+                                 "output.checkpoint_interval=1e-6", render, sensor, normal}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // The checkpoint holds every mechanism: split nodes, live links, damage.
   const nlohmann::json before = summary(dir / "part");
@@ -116,6 +119,7 @@ TEST(Checkpoint, ResumedRunIsBitwiseTheUninterruptedRun) {
                         "--set", "run.threads=2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "part/render/damage_005.000us.png"));
+  EXPECT_TRUE(fs::exists(dir / "part/sensors.csv"));
   expect_same_outputs(dir / "full", dir / "part");
 }
 

@@ -150,6 +150,8 @@ TEST(CrackPattern, AnalyzeRebuildsTheRunsPattern) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(brittle_test::read_text(out / "pattern.json"), pattern) << "the same pattern";
   EXPECT_TRUE(brittle_test::contains(r.out, "tip 0 (notch)")) << r.out;
+  EXPECT_TRUE(fs::exists(out / "events_energy.png"));
+  EXPECT_TRUE(fs::exists(out / "events_rate.png"));
 
   r = brittle_test::run_brittle(dir, {"analyze", out.string(), "--min-branch-length", "1"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

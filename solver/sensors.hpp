@@ -1,0 +1,48 @@
+// Acoustic-emission sensors (docs/acoustic_emission.md): [sensor.NAME] nodes record their
+// velocity along a direction every step into sensors.csv; at the end, amplitude spectra
+// (Hann window, Eigen's FFT) into spectra.csv and a summary per sensor into sensors.json.
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "simulation.hpp"
+
+namespace brittle {
+
+/// An amplitude spectrum of a uniformly sampled signal.
+struct Spectrum {
+  std::vector<double> frequency, amplitude;  ///< [Hz], signal units
+  double dominant = 0;  ///< frequency of the largest amplitude above 0 Hz [Hz]
+  double centroid = 0;  ///< sum f A / sum A over f > 0 [Hz]
+};
+
+/// The one-sided amplitude spectrum of `values` sampled at `times` (ascending; resampled
+/// linearly onto a uniform grid at the smallest interval when the step changed), mean removed,
+/// Hann window, amplitude 2 |X_k| / sum(w) (a sine of amplitude A gives A at its frequency).
+Spectrum amplitude_spectrum(const std::vector<double>& times, const std::vector<double>& values);
+
+/// Records the scene's sensors: sensors.csv as the run goes (time, one column per sensor:
+/// velocity along its direction [m/s]), spectra.csv and sensors.json at the end.
+class SensorRecorder : public Observer {
+ public:
+  SensorRecorder(const Scene& scene, std::string directory);
+  void on_start(const Simulation& sim) override;
+  void on_resume(const Simulation& sim) override;
+  void on_step(const Simulation& sim) override;
+  void on_finish(const Simulation& sim, const RunSummary& s) override;
+  /// The node each sensor reads (after on_start).
+  const std::vector<vtkIdType>& nodes() const { return nodes_; }
+
+ private:
+  void record(const Simulation& sim);
+  std::vector<SensorParams> sensors_;
+  std::string directory_;
+  std::vector<vtkIdType> nodes_;
+  std::vector<double> times_;
+  std::vector<std::vector<double>> values_;  // per sensor
+  std::ofstream out_;
+};
+
+}  // namespace brittle
