@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "isolated_read.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
@@ -201,8 +202,12 @@ int main(int argc, char** argv) {
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "brittle: error: " << e.what() << "\n";
+  } catch (const std::exception& e) {  // control bytes of a binary input are escaped
+    std::cerr << "brittle: error: " << brittle::escape_control(e.what()) << "\n";
+    return 2;
+  } catch (...) {  // nothing may end the program with std::terminate
+    std::cerr << "brittle: error: an unknown failure (a library threw something that is not an "
+                 "exception)\n";
     return 2;
   }
 }

@@ -2,9 +2,10 @@
 // (docs/rendering.md).
 #include "render_commands.hpp"
 
+#include "isolated_read.hpp"
+
 #include <vtkImageData.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
 #include <boost/program_options.hpp>
@@ -67,16 +68,9 @@ Scene render_scene(const std::vector<std::string>& files, const std::vector<std:
   return load_scene(files, overrides);
 }
 
+/// A frame read in a child process (isolated_read.hpp): a damaged file is a message, not a crash.
 vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path) {
-  BRITTLE_CHECK(fs::is_regular_file(path), "render: frame '", path, "' does not exist");
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* grid = reader->GetOutput();
-  BRITTLE_CHECK(grid && grid->GetNumberOfCells() > 0, "render: cannot read frame '", path, "'");
-  auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  copy->ShallowCopy(grid);
-  return copy;
+  return read_vtu_isolated(path, "render: frame");
 }
 
 /// The stored frame nearest to `time`; throws when none is within kTimeTolerance.

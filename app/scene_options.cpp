@@ -912,6 +912,15 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
     return std::string(text);
   };
   if (s.mesh.file.empty()) {
+    // Shapes Gmsh meshes for minutes or forever (the tet estimate does not see them).
+    const double longest = std::max(g.L, g.H), shortest = std::min(g.L, g.H);
+    BRITTLE_CHECK(longest <= 1e3 * shortest, o.latest({"geometry.L", "geometry.H"}),
+                  ": geometry.L x H = ", format_double(g.L), " x ", format_double(g.H),
+                  " m (expected sides within a factor 1000 of each other)");
+    BRITTLE_CHECK(s.mesh.size <= shortest, o.latest({"mesh.size", "geometry.L", "geometry.H"}),
+                  ": mesh.size = ", format_double(s.mesh.size),
+                  " m is larger than the plate's shorter side ", format_double(shortest),
+                  " m (expected at most that)");
     const double tets = estimated_tets(g, s.mesh);
     BRITTLE_CHECK(tets <= s.mesh.max_elements,
                   o.latest({"mesh.size", "mesh.band", "mesh.band_size", "mesh.layers",

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <numeric>
 #include <stdexcept>
@@ -31,6 +32,7 @@
 
 #include "boundary.hpp"
 #include "error.hpp"
+#include "isolated_read.hpp"
 
 namespace brittle {
 namespace {
@@ -516,13 +518,54 @@ vtkSmartPointer<vtkUnstructuredGrid> read_mesh(const std::string& path) {
   BRITTLE_CHECK(std::filesystem::is_regular_file(path, ec), where, ": not a regular file",
                 expected);
 
+  // What can be checked before a third-party reader sees the file.
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  BRITTLE_CHECK(!ec && size > 0, where, ": is empty", expected);
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(256, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    const std::size_t start = head.find_first_not_of(" \t\r\n");
+    const std::string first = start == std::string::npos ? std::string() : head.substr(start);
+    if (ext == ".msh")
+      BRITTLE_CHECK(first.starts_with("$MeshFormat"), where,
+                    ": does not start with $MeshFormat", expected);
+    else
+      BRITTLE_CHECK(first.starts_with("<?xml") || first.starts_with("<VTKFile"), where,
+                    ": does not start with an XML header", expected);
+  }
+  // The reader runs in a child process: a crash of Gmsh or VTK on a malformed file is an
+  // error message here (isolated_read.hpp).
+  const bool msh = ext == ".msh";
+  const std::string bytes = read_isolated(
+      where, msh ? "Gmsh reader" : "VTK reader", expected.substr(11, expected.size() - 12), size,
+      [&](StateWriter& w) {
+        TetSoup s = msh ? read_msh(path) : read_vtu(path);
+        std::vector<std::string> names;
+        std::vector<std::vector<std::uint8_t>> masks;
+        for (auto& [name, mask] : s.groups) names.push_back(name), masks.push_back(mask);
+        io_all(w, s.xyz, s.tets, s.source_ids, names, masks);
+      });
   TetSoup soup;
-  try {
-    soup = ext == ".msh" ? read_msh(path) : read_vtu(path);
-  } catch (const std::exception& e) {
-    throw Error(where + ": cannot be read (" + e.what() + "; " + expected.substr(2));
-  } catch (...) {
-    throw Error(where + ": cannot be read" + expected);
+  {
+    StateReader r(bytes.data(), bytes.data() + bytes.size(), where);
+    std::vector<std::string> names;
+    std::vector<std::vector<std::uint8_t>> masks;
+    io_all(r, soup.xyz, soup.tets, soup.source_ids, names, masks);
+    BRITTLE_CHECK(soup.xyz.size() % 3 == 0 && soup.source_ids.size() == soup.tets.size() &&
+                      names.size() == masks.size(),
+                  where, ": the reader's result is inconsistent");
+    const vtkIdType n_points = static_cast<vtkIdType>(soup.xyz.size() / 3);
+    for (const Tet& t : soup.tets)
+      for (vtkIdType p : t)
+        BRITTLE_CHECK(p >= 0 && p < n_points, where, ": a tetrahedron refers to point ", p,
+                      " of ", n_points);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      BRITTLE_CHECK(masks[i].size() == soup.xyz.size() / 3, where, ": group '",
+                    escape_control(names[i]), "' does not match the points");
+      soup.groups.emplace_back(names[i], std::move(masks[i]));
+    }
   }
   BRITTLE_CHECK(!soup.tets.empty(), where, ": holds no tetrahedra", expected);
   for (double c : soup.xyz)

@@ -1,0 +1,33 @@
+// Third-party readers on untrusted files, where their crash cannot take the run down
+// (docs/mesh.md, "Reading files safely"): the reader runs in a child process (fork), with a
+// memory limit and a deadline, and hands back its result through a pipe, or a message.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
+#include "checkpoint.hpp"
+
+namespace brittle {
+
+/// Runs `read` in a child process; it writes its result into the StateWriter. Returns the
+/// bytes it wrote, or throws brittle::Error "<what>: <reader> crashed (SIGSEGV) on this file
+/// (expected <expected>)" when the child died, ran out of memory or time, and "<what>: <its
+/// message> (expected ...)" when `read` threw. `file_bytes` sizes the deadline and memory limit.
+std::string read_isolated(const std::string& what, const std::string& reader,
+                          const std::string& expected, std::uintmax_t file_bytes,
+                          const std::function<void(StateWriter&)>& read);
+
+/// A VTK XML unstructured grid (.vtu) with all its arrays, read in a child process: for
+/// frames of `brittle render`. Throws brittle::Error naming the file if it cannot be read.
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
+                                                       const std::string& what);
+
+/// Replaces control bytes (and bytes that are not UTF-8) with \xNN escapes, so that a message
+/// that quotes a binary file prints as one harmless line.
+std::string escape_control(const std::string& text);
+
+}  // namespace brittle
