@@ -800,8 +800,9 @@ void apply_options(const std::vector<po::option>& options, const Source& src, st
           "'_' or '-' only");
       BRITTLE_CHECK(named_seen.insert(name).second, src.label, ": ", name,
                     " is given more than once");
-      auto it = std::find_if(named.begin(), named.end(), [&](const NamedSection& n) {
-        return n.kind == kind && n.name == section;
+      auto it = std::find_if(named.begin(), named.end(), [&, &k = kind, &s = section](
+                                                              const NamedSection& n) {
+        return n.kind == k && n.name == s;  // (clang 14 cannot capture structured bindings)
       });
       if (it == named.end()) it = named.insert(named.end(), NamedSection{kind, section, {}});
       it->keys[key] = {opt.value.empty() ? std::string() : opt.value.front(), src.label};

@@ -20,6 +20,18 @@
 
 #include "error.hpp"
 
+// AddressSanitizer in this build (GCC: __SANITIZE_ADDRESS__, clang: __has_feature).
+#if defined(__SANITIZE_ADDRESS__)
+#define BRITTLE_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define BRITTLE_ASAN 1
+#endif
+#endif
+#ifdef BRITTLE_ASAN
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 namespace brittle {
 namespace {
 
@@ -61,7 +73,11 @@ std::string read_isolated(const std::string& what, const std::string& reader,
     // says what happened in one line. A fault ends the child with its signal.
     if (const int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, 2), ::close(null);
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) ::signal(sig, SIG_DFL);
-#if !defined(__SANITIZE_ADDRESS__)
+#ifdef BRITTLE_ASAN
+    // A sanitizer report in the child is the child's failure, not the parent's (libFuzzer
+    // registers a death callback that would record the input as a crash of the fuzzer).
+    __sanitizer_set_death_callback(nullptr);
+#else
     // A header that claims billions of points must not take the machine's memory.
     const rlim_t limit = std::max<rlim_t>(rlim_t(4) << 30, rlim_t(200) * file_bytes);
     const rlimit as{limit, limit};
