@@ -50,15 +50,35 @@ class CrackTipCsvWriter : public Observer {
   std::string directory_;
 };
 
+/// A text file grown by whole rows (energies.csv): every append is written at once and
+/// checked. A failed append throws brittle::Error naming the file and the operating system's
+/// reason and cuts the file back to its last whole row; the file is then closed.
+class RowFile {
+ public:
+  /// Opens `path` emptied (truncate) or to append to what it holds.
+  RowFile(std::string path, bool truncate);
+  ~RowFile();
+  RowFile(const RowFile&) = delete;
+  RowFile& operator=(const RowFile&) = delete;
+  /// Appends one or more whole rows, each ending in '\n'.
+  void append(const std::string& rows);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  long long size_ = 0;  // bytes of whole rows in the file
+};
+
 /// <dir>/energies.csv: one row per energy interval, every term of the budget and the
-/// relative imbalance |E(t) - E(0)| / E(0).
+/// relative imbalance |E(t) - E(0)| / E(0). Each row is checked as it is written.
 class EnergyCsvWriter : public Observer {
  public:
   explicit EnergyCsvWriter(const std::string& directory);
   void on_energy(const Simulation& sim, const Energies& e) override;
 
  private:
-  std::ofstream out_;
+  RowFile out_;
   double initial_ = 0;
   bool first_ = true;
 };
@@ -87,7 +107,9 @@ struct PvdEntry {
 /// brittle::Error naming the file if it cannot be parsed.
 std::vector<PvdEntry> read_pvd(const std::string& path);
 
-/// Writes `text` to `path` through a temporary file and a rename.
+/// Writes `text` to `path` through `path`.tmp, checked write, fsync, close and rename. On any
+/// failure the temporary file is removed, `path` keeps what it held, and brittle::Error names
+/// `path` and the operating system's reason ("No space left on device").
 void write_file_atomically(const std::string& path, const std::string& text);
 
 /// The standard set for a run, in scene.output.directory.

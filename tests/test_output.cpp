@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <iterator>
 #include <limits>
 #include <fstream>
 #include <string>
@@ -17,6 +19,7 @@
 
 #include "output.hpp"
 #include "error.hpp"
+#include "fixtures.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
@@ -143,12 +146,89 @@ TEST(Output, SummaryWithNonFiniteNumbersIsValidJson) {
   EXPECT_TRUE(j.at("crack_speed_r2").is_null());
   EXPECT_TRUE(j.at("final_elastic").is_null());
   EXPECT_TRUE(j.at("max_relative_imbalance").is_null());
-  EXPECT_EQ(j.at("status"), r.status);
+  // The status says which values every run defines were not finite; the crack speed and its
+  // fit may be undefined (fewer than 3 samples) and are null without a word.
+  EXPECT_EQ(j.at("status"),
+            r.status + "; non-finite values written as null: final_elastic, max_relative_imbalance");
   EXPECT_EQ(j.at("warnings"), nlohmann::json(r.warnings));
   EXPECT_EQ(j.at("scene_sources"), nlohmann::json(s.sources));
   EXPECT_EQ(j.at("splits"), 3);
   EXPECT_EQ(text.find("nan"), std::string::npos);
   EXPECT_EQ(text.find("inf"), std::string::npos);
+
+  // A completed run without a steady crack speed keeps its status as it is.
+  RunSummary done;
+  done.status = "completed";
+  done.crack_speed.speed = std::nan("");
+  const auto k = nlohmann::json::parse(summary_json(sim, done));
+  EXPECT_EQ(k.at("status"), "completed");
+  EXPECT_TRUE(k.at("crack_speed").is_null());
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+/// The brittle::Error that `f` throws ("" and a test failure if none).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw a non-brittle exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "nothing thrown";
+  return "";
+}
+
+// A write that cannot be done throws brittle::Error naming the file and the reason, and
+// leaves no temporary file; the file keeps what it held.
+TEST(Output, AFailedWriteNamesTheFileAndLeavesNoTemporaryFile) {
+  const std::string missing = "/nonexistent_brittle_dir/summary.json";
+  const std::string message = error_of([&] { write_file_atomically(missing, "{}\n"); });
+  EXPECT_NE(message.find(missing), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+
+  testing::SmallTmpfs disk(64 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
+  const fs::path file = disk.path() / "frame.vtu";
+  write_file_atomically(file.string(), "complete\n");
+  const std::string full =
+      error_of([&] { write_file_atomically(file.string(), std::string(200 * 1024, 'x')); });
+  EXPECT_EQ(full, "output: cannot write '" + file.string() + "': No space left on device");
+  EXPECT_EQ(file_text(file), "complete\n");
+  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(disk.path()), fs::directory_iterator()), 1);
+}
+
+// energies.csv grows by rows: on a full disk the append throws naming the file and the
+// reason, and the file ends with a whole row (the part of the row that landed is cut).
+TEST(Output, ARowFileOnAFullDiskKeepsWholeRows) {
+  testing::SmallTmpfs disk(64 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
+  const fs::path file = disk.path() / "energies.csv";
+  const std::string row = "0.125," + std::string(1000, '7') + "\n";  // does not divide 64 k
+  RowFile csv(file.string(), /*truncate=*/true);
+  std::string message;
+  int rows = 0;
+  for (; rows < 1000 && message.empty(); ++rows) {
+    try {
+      csv.append(row);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  EXPECT_EQ(message, "output: cannot write '" + file.string() + "': No space left on device");
+  EXPECT_GT(rows, 10);
+  const std::string text = file_text(file);
+  EXPECT_EQ(text.size(), (rows - 1) * row.size());
+  EXPECT_EQ(text.size() % row.size(), 0u);
+  // closed after its first error: later rows are refused, the file stays as it was
+  EXPECT_THROW(csv.append(row), Error);
+  EXPECT_EQ(file_text(file).size(), text.size());
 }
 
 }  // namespace
