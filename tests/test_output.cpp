@@ -6,6 +6,8 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <new>
+#include <system_error>
 #include <fstream>
 #include <string>
 
@@ -229,6 +231,74 @@ TEST(Output, ARowFileOnAFullDiskKeepsWholeRows) {
   // closed after its first error: later rows are refused, the file stays as it was
   EXPECT_THROW(csv.append(row), Error);
   EXPECT_EQ(file_text(file).size(), text.size());
+}
+
+/// Throws `what` from on_frame at the given frame, or from on_finish.
+struct Thrower : Observer {
+  int frame = -1;
+  bool at_finish = false;
+  std::function<void()> raise;
+  int frames = 0;
+  void on_frame(const Simulation&) override {
+    if (frames++ == frame) raise();
+  }
+  void on_finish(const Simulation&, const RunSummary&) override {
+    if (at_finish) raise();
+  }
+};
+
+std::string summary_status(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  return nlohmann::json::parse(in).at("status");
+}
+
+// Whatever stops a run (not only brittle::Error: a std::bad_alloc or a filesystem_error inside
+// the step loop), the summary is written with "failed: <that error>", run() throws it as
+// brittle::Error, and a later failure (here an observer's on_finish) does not replace it. A
+// completed run whose writer fails in on_finish is failed by the first such error, and the
+// summary written after it says so.
+TEST(Output, TheFirstErrorIsReportedAndTheSummaryStillWritten) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_test_first_error";
+  Scene s;
+  s.loading.sigma_over_sigmac = 0.5;
+  s.geometry.H = 2e-3;
+  s.run.end_time = 2e-7;
+  s.output.frame_times = {0.0, 1e-7};
+  s.output.directory = dir.string();
+  auto mesh = generate_box_mesh(4e-3, 2e-3, 1e-3, 1e-3);
+  for (const bool bad_alloc : {true, false}) {
+    fs::remove_all(dir);
+    Simulation sim(s, *mesh);
+    Thrower during, finish;
+    during.frame = 1;
+    during.raise = [&] {
+      if (bad_alloc) throw std::bad_alloc();
+      throw fs::filesystem_error("cannot rename", std::make_error_code(std::errc::no_space_on_device));
+    };
+    finish.at_finish = true;
+    finish.raise = [] { throw Error("a later failure"); };
+    OutputWriters writers(sim);
+    std::vector<Observer*> observers = {&finish};  // on_finish before the writers'
+    for (Observer* o : writers.observers()) observers.push_back(o);
+    observers.push_back(&during);  // on_frame after the writers' (the frame is written)
+    const std::string message = error_of([&] { sim.run(observers); });
+    const std::string first =
+        bad_alloc ? "std::bad_alloc" : "filesystem error: cannot rename: No space left on device";
+    EXPECT_EQ(message.rfind(first, 0), 0u) << message;
+    EXPECT_EQ(summary_status(dir).rfind("failed: " + first, 0), 0u) << summary_status(dir);
+    EXPECT_EQ(read_pvd((dir / "run.pvd").string()).size(), 2u);
+  }
+  fs::remove_all(dir);
+  Simulation sim(s, *mesh);
+  Thrower finish;
+  finish.at_finish = true;
+  finish.raise = [] { throw Error("output: cannot write 'crack_tip.csv': No space left on device"); };
+  OutputWriters writers(sim);
+  std::vector<Observer*> observers = {&finish};
+  for (Observer* o : writers.observers()) observers.push_back(o);
+  EXPECT_EQ(error_of([&] { sim.run(observers); }),
+            "output: cannot write 'crack_tip.csv': No space left on device");
+  EXPECT_EQ(summary_status(dir), "failed: output: cannot write 'crack_tip.csv': No space left on device");
 }
 
 }  // namespace
