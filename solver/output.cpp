@@ -259,7 +259,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   // Values every run defines (energies, times, dt, the load): one that is not finite means
   // the run went wrong (a blow-up); it is null, and the status names it. Values that may be
   // undefined (a speed fitted to fewer than 3 samples, a tip that has not moved yet) are
-  // null without a word: docs/scenes.md, "Outputs".
+  // null without a word: docs/scenes.md, "When a run fails".
   std::vector<std::string> non_finite;
   auto measured = [&](const std::string& key, double v) {
     if (!std::isfinite(v)) non_finite.push_back(key);

@@ -1,6 +1,7 @@
 // Observers that write a run to disk: VTU frames + a .pvd collection (ParaView time
-// series), energies.csv and summary.json (SPEC 9). Every file is written whole and renamed
-// into place, so a run that stops early leaves only complete, readable files.
+// series), energies.csv and summary.json (SPEC 9). Every file is written whole, checked and
+// renamed into place (energies.csv: checked whole rows), so a run that stops early, even on a
+// full disk, leaves only complete, readable files and no .tmp (docs/scenes.md, "When a run fails").
 #pragma once
 
 #include <fstream>
