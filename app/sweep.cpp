@@ -153,8 +153,8 @@ void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& poi
     std::string status;  // a quoted CSV field: quotes doubled
     for (char c : p.status) status += c == '"' ? std::string("\"\"") : std::string(1, c);
     out << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed << ',' << p.r2 << ','
-        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ','
-        << p.zhou_speed << ',' << '"' << status << '"' << ',' << p.directory << '\n';
+        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ',' << p.zhou_speed
+        << ',' << '"' << status << '"' << ',' << p.directory << '\n';
   }
   write_file_atomically(path, out.str());
 }

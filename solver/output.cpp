@@ -72,8 +72,8 @@ void write_file_atomically(const std::string& path, const std::string& text) {
 }
 
 RowFile::RowFile(std::string path, bool truncate) : path_(std::move(path)) {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (truncate ? O_TRUNC : O_APPEND),
-               0644);
+  fd_ =
+      ::open(path_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (truncate ? O_TRUNC : O_APPEND), 0644);
   if (fd_ < 0) throw write_error(path_, errno);
   const off_t end = ::lseek(fd_, 0, SEEK_END);
   if (end < 0) {
@@ -134,9 +134,8 @@ void write_xml(vtkXMLWriter* writer, vtkDataObject* data, const std::string& pat
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetCompressorTypeToZLib();
-  BRITTLE_CHECK(writer->Write() == 1 && writer->GetErrorCode() == 0, "output: cannot write '",
-                path, "': VTK could not encode the data (error code ", writer->GetErrorCode(),
-                ")");
+  BRITTLE_CHECK(writer->Write() == 1 && writer->GetErrorCode() == 0, "output: cannot write '", path,
+                "': VTK could not encode the data (error code ", writer->GetErrorCode(), ")");
   write_file_atomically(path, writer->GetOutputString());
 }
 
@@ -270,8 +269,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["tets"] = s.tets;
   j["fixed_nodes"] = s.fixed_nodes;
   j["sigma"] = measured("sigma", s.sigma);
-  j["sigma_over_sigmac"] =
-      measured("sigma_over_sigmac", s.sigma / sim.scene().material.sigma_c);
+  j["sigma_over_sigmac"] = measured("sigma_over_sigmac", s.sigma / sim.scene().material.sigma_c);
   j["dt"] = measured("dt", s.dt);
   j["final_dt"] = measured("final_dt", s.final_dt);
   j["dt_reductions"] = s.dt_reductions;

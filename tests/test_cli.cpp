@@ -967,11 +967,11 @@ void expect_complete_frames(const fs::path& dir, vtkIdType cells) {
 // null where the numbers are not finite and a status that says so.
 TEST(Failures, ABlowUpWritesAValidSummary) {
   TempDir dir;
-  const std::string file = dir.write(
-      "kick.ini",
-      "[mesh]\nsize = 2e-3\n[loading]\nsigma_over_sigmac = 0.5\n[run]\nend_time = 2e-6\n"
-      "threads = 1\n[initial.kick]\nbox = 0.014, 0.018, -0.002, 0.002, -inf, inf\n"
-      "velocity = 0, 2e4, 0\n");
+  const std::string file =
+      dir.write("kick.ini",
+                "[mesh]\nsize = 2e-3\n[loading]\nsigma_over_sigmac = 0.5\n[run]\nend_time = 2e-6\n"
+                "threads = 1\n[initial.kick]\nbox = 0.014, 0.018, -0.002, 0.002, -inf, inf\n"
+                "velocity = 0, 2e4, 0\n");
   const fs::path out = dir / "out";
   const Result r = run_brittle(dir, {"run", file, "--out", out.string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -981,8 +981,8 @@ TEST(Failures, ABlowUpWritesAValidSummary) {
   nlohmann::json j;
   ASSERT_NO_THROW(j = nlohmann::json::parse(text)) << text;
   const std::string status = j.at("status");
-  EXPECT_EQ(status.rfind("failed: " + error.substr(16) + "; non-finite values written as null: ", 0),
-            0u)
+  EXPECT_EQ(
+      status.rfind("failed: " + error.substr(16) + "; non-finite values written as null: ", 0), 0u)
       << status;
   EXPECT_TRUE(contains(status, "final_elastic")) << status;
   EXPECT_TRUE(j.at("final_elastic").is_null());
@@ -1002,13 +1002,13 @@ TEST(Failures, AFullDiskFailsCleanly) {
   if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
   TempDir dir;
   const fs::path out = disk.path() / "run";
-  const Result r = run_brittle(
-      dir, {"run", std::string(BRITTLE_SOURCE_DIR) + "/scenes/cm.ini", "--set", "run.end_time=5e-6",
-            "--set", "run.threads=1", "--out", out.string()});
+  const Result r =
+      run_brittle(dir, {"run", std::string(BRITTLE_SOURCE_DIR) + "/scenes/cm.ini", "--set",
+                        "run.end_time=5e-6", "--set", "run.threads=1", "--out", out.string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   const std::string error = last_line(r.err);
-  EXPECT_EQ(error, "brittle: error: output: cannot write '" + (out / "frames/frame_0002.vtu").string() +
-                       "': No space left on device")
+  EXPECT_EQ(error, "brittle: error: output: cannot write '" +
+                       (out / "frames/frame_0002.vtu").string() + "': No space left on device")
       << r.err;
   EXPECT_TRUE(temporary_files(disk.path()).empty()) << temporary_files(disk.path()).front();
   EXPECT_EQ(brittle::read_pvd((out / "run.pvd").string()).size(), 2u);

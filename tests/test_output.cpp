@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <functional>
 #include <iterator>
+#include <fstream>
 #include <limits>
 #include <new>
-#include <system_error>
-#include <fstream>
 #include <string>
+#include <system_error>
 
 #include <nlohmann/json.hpp>
 #include <vtkCellData.h>
@@ -150,8 +150,9 @@ TEST(Output, SummaryWithNonFiniteNumbersIsValidJson) {
   EXPECT_TRUE(j.at("max_relative_imbalance").is_null());
   // The status says which values every run defines were not finite; the crack speed and its
   // fit may be undefined (fewer than 3 samples) and are null without a word.
-  EXPECT_EQ(j.at("status"),
-            r.status + "; non-finite values written as null: final_elastic, max_relative_imbalance");
+  EXPECT_EQ(
+      j.at("status"),
+      r.status + "; non-finite values written as null: final_elastic, max_relative_imbalance");
   EXPECT_EQ(j.at("warnings"), nlohmann::json(r.warnings));
   EXPECT_EQ(j.at("scene_sources"), nlohmann::json(s.sources));
   EXPECT_EQ(j.at("splits"), 3);
@@ -273,7 +274,8 @@ TEST(Output, TheFirstErrorIsReportedAndTheSummaryStillWritten) {
     during.frame = 1;
     during.raise = [&] {
       if (bad_alloc) throw std::bad_alloc();
-      throw fs::filesystem_error("cannot rename", std::make_error_code(std::errc::no_space_on_device));
+      throw fs::filesystem_error("cannot rename",
+                                 std::make_error_code(std::errc::no_space_on_device));
     };
     finish.at_finish = true;
     finish.raise = [] { throw Error("a later failure"); };
@@ -292,13 +294,16 @@ TEST(Output, TheFirstErrorIsReportedAndTheSummaryStillWritten) {
   Simulation sim(s, *mesh);
   Thrower finish;
   finish.at_finish = true;
-  finish.raise = [] { throw Error("output: cannot write 'crack_tip.csv': No space left on device"); };
+  finish.raise = [] {
+    throw Error("output: cannot write 'crack_tip.csv': No space left on device");
+  };
   OutputWriters writers(sim);
   std::vector<Observer*> observers = {&finish};
   for (Observer* o : writers.observers()) observers.push_back(o);
   EXPECT_EQ(error_of([&] { sim.run(observers); }),
             "output: cannot write 'crack_tip.csv': No space left on device");
-  EXPECT_EQ(summary_status(dir), "failed: output: cannot write 'crack_tip.csv': No space left on device");
+  EXPECT_EQ(summary_status(dir),
+            "failed: output: cannot write 'crack_tip.csv': No space left on device");
 }
 
 }  // namespace

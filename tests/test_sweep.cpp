@@ -108,9 +108,9 @@ TEST(Sweep, NullsInASummaryReadAsNaN) {
   std::ofstream(dir / "summary.json") << "{\"status\": ";
   SweepPoint garbage;
   ASSERT_NO_THROW(garbage = read_run(dir.string()));
-  EXPECT_EQ(garbage.status.rfind("failed: '" + (dir / "summary.json").string() + "' cannot be read",
-                                 0),
-            0u)
+  EXPECT_EQ(
+      garbage.status.rfind("failed: '" + (dir / "summary.json").string() + "' cannot be read", 0),
+      0u)
       << garbage.status;
   EXPECT_TRUE(std::isnan(garbage.load));
   // Quotes in a status are doubled inside the quoted CSV field.
@@ -201,9 +201,10 @@ TEST(Sweep, ABlownUpLoadKeepsItsRowAndTheOthers) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path scene = dir / "kick.ini";
-  std::ofstream(scene) << "[mesh]\nsize = 2e-3\n[material]\nsigma_c = 2e10\n[run]\nend_time = 1e-6\n"
-                          "[initial.kick]\nbox = 0.014, 0.018, -0.002, 0.002, -inf, inf\n"
-                          "velocity = 0, 4e4, 0\n";
+  std::ofstream(scene)
+      << "[mesh]\nsize = 2e-3\n[material]\nsigma_c = 2e10\n[run]\nend_time = 1e-6\n"
+         "[initial.kick]\nbox = 0.014, 0.018, -0.002, 0.002, -inf, inf\n"
+         "velocity = 0, 4e4, 0\n";
   const std::string sweep = std::string(BRITTLE_EXE) + " sweep " + scene.string() +
                             " --loads 0.05,0.5 --jobs 2 --out " + (dir / "sweep").string() + " > " +
                             (dir / "sweep.log").string() + " 2>&1";
