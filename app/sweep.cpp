@@ -25,6 +25,7 @@
 #include "error.hpp"
 #include "figures.hpp"
 #include "lists.hpp"
+#include "output.hpp"
 #include "paths.hpp"
 #include "stop_signal.hpp"
 
@@ -112,8 +113,9 @@ SweepPoint read_run(const std::string& directory) {
   try {
     std::ifstream in(summary);
     json = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw Error(error_message("sweep: '", summary, "' cannot be read: ", e.what()));
+  } catch (const std::exception& e) {  // the row stays, marked: the other loads still count
+    p.status = error_message("failed: '", summary, "' cannot be read: ", e.what());
+    return p;
   }
   // null (not finite when written) and missing keys read as NaN
   auto value = [&](const char* key) {
@@ -153,17 +155,18 @@ SweepPoint read_run(const std::string& directory) {
 }
 
 void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& points) {
-  std::ofstream out(path + ".tmp", std::ios::trunc);
-  BRITTLE_CHECK(out, "sweep: cannot write '", path, "'");
+  std::ostringstream out;
   out << "sigma_over_sigmac,W,speed,fitted_speed,fit_r2,fit_samples,arrested,tip_x,zhou_speed,"
          "status,directory\n"
       << std::setprecision(10);
-  for (const SweepPoint& p : points)
+  for (const SweepPoint& p : points) {
+    std::string status;  // a quoted CSV field: quotes doubled
+    for (char c : p.status) status += c == '"' ? std::string("\"\"") : std::string(1, c);
     out << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed << ',' << p.r2 << ','
-        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ','
-        << p.zhou_speed << ',' << '"' << p.status << '"' << ',' << p.directory << '\n';
-  out.close();
-  fs::rename(path + ".tmp", path);
+        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ',' << p.zhou_speed
+        << ',' << '"' << status << '"' << ',' << p.directory << '\n';
+  }
+  write_file_atomically(path, out.str());
 }
 
 std::vector<SweepPoint> run_sweep(const SweepOptions& o) {

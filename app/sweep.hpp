@@ -44,7 +44,8 @@ std::vector<double> parse_loads(const std::string& text);
 /// load, and NaN for what it did not write), not thrown.
 std::vector<SweepPoint> run_sweep(const SweepOptions& options);
 
-/// Reads the results of one finished run directory (summary.json, crack_tip.csv).
+/// Reads the results of one finished run directory (summary.json, crack_tip.csv). A missing
+/// or unreadable summary.json gives a point whose status is "failed: ..." naming it.
 SweepPoint read_run(const std::string& directory);
 
 /// `brittle sweep SCENE.ini [MORE.ini ...] --loads SPEC [--set k=v ...] [--jobs N]

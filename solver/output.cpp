@@ -12,8 +12,13 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLUtilities.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -27,18 +32,81 @@ namespace fs = std::filesystem;
 
 namespace brittle {
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    BRITTLE_CHECK(out, "output: cannot write '", tmp, "'");
-    out << text;
-    BRITTLE_CHECK(out.flush(), "output: cannot write '", tmp, "'");
+namespace {
+
+/// One line naming the file and the operating system's reason.
+Error write_error(const std::string& path, int err) {
+  return Error(error_message("output: cannot write '", path, "': ", std::strerror(err)));
+}
+
+/// Writes all `size` bytes to `fd`; 0 or the errno of the failure (ENOSPC, EIO, ...).
+int write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    if (n == 0) return EIO;  // a regular file that takes nothing: treat as an I/O error
+    data += n;
+    size -= static_cast<std::size_t>(n);
   }
-  fs::rename(tmp, path);
+  return 0;
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  // Every call is checked (write, fsync, close, rename): a full disk or an I/O error must not
+  // leave a truncated file under the final name, and fsync is where some file systems report
+  // what write accepted. On any failure the temporary file goes and nothing is renamed.
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw write_error(path, errno);
+  int err = write_all(fd, text.data(), text.size());
+  if (err == 0 && ::fsync(fd) != 0) err = errno;
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err == 0 && ::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
+  if (err != 0) {
+    ::unlink(tmp.c_str());
+    throw write_error(path, err);
+  }
+}
+
+RowFile::RowFile(std::string path, bool truncate) : path_(std::move(path)) {
+  fd_ =
+      ::open(path_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (truncate ? O_TRUNC : O_APPEND), 0644);
+  if (fd_ < 0) throw write_error(path_, errno);
+  const off_t end = ::lseek(fd_, 0, SEEK_END);
+  if (end < 0) {
+    const int err = errno;
+    ::close(fd_);
+    throw write_error(path_, err);
+  }
+  size_ = end;
+}
+
+RowFile::~RowFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void RowFile::append(const std::string& rows) {
+  if (fd_ < 0) throw Error(error_message("output: '", path_, "' was closed by an earlier error"));
+  const int err = write_all(fd_, rows.data(), rows.size());
+  if (err == 0) {
+    size_ += static_cast<long long>(rows.size());
+    return;
+  }
+  // Cut what did land of these rows, so that the file ends with a whole row (best effort:
+  // the error reported is the write's).
+  [[maybe_unused]] const int cut = ::ftruncate(fd_, static_cast<off_t>(size_));
+  ::close(fd_);
+  fd_ = -1;
+  throw write_error(path_, err);
 }
 
 void PvdCollection::add(double time, const std::string& relative_file) {
+  // The entry is kept only once the file that lists it is written.
   entries_.emplace_back(time, relative_file);
   std::ostringstream pvd;
   pvd << "<?xml version=\"1.0\"?>\n"
@@ -49,7 +117,12 @@ void PvdCollection::add(double time, const std::string& relative_file) {
     pvd << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file
         << "\"/>\n";
   pvd << "  </Collection>\n</VTKFile>\n";
-  write_file_atomically(path_, pvd.str());
+  try {
+    write_file_atomically(path_, pvd.str());
+  } catch (...) {
+    entries_.pop_back();
+    throw;
+  }
 }
 
 void PvdCollection::resume(std::size_t keep) {
@@ -70,15 +143,18 @@ void PvdCollection::resume(std::size_t keep) {
 
 namespace {
 
-/// Writes a VTK XML file through a temporary name (binary, appended, zlib).
+/// Writes a VTK XML file (binary, appended, zlib): VTK writes into memory, and the file is
+/// written and checked by write_file_atomically (VTK's own file output does not notice a
+/// full disk: a truncated file would be renamed into place).
 void write_xml(vtkXMLWriter* writer, vtkDataObject* data, const std::string& path) {
   writer->SetInputData(data);
-  writer->SetFileName((path + ".tmp").c_str());
+  writer->WriteToOutputStringOn();
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetCompressorTypeToZLib();
-  BRITTLE_CHECK(writer->Write() == 1, "output: cannot write '", path, "'");
-  fs::rename(path + ".tmp", path);
+  BRITTLE_CHECK(writer->Write() == 1 && writer->GetErrorCode() == 0, "output: cannot write '", path,
+                "': VTK could not encode the data (error code ", writer->GetErrorCode(), ")");
+  write_file_atomically(path, writer->GetOutputString());
 }
 
 /// The cohesive links as line cells between their current end points.
@@ -182,10 +258,9 @@ constexpr const char* kEnergyHeader =
 
 EnergyCsvWriter::EnergyCsvWriter(const std::string& directory, bool resume)
     : path_(directory + "/energies.csv") {
-  if (resume) return;
-  out_.open(path_, std::ios::trunc);
-  BRITTLE_CHECK(out_, "output: cannot write '", path_, "'");
-  out_ << kEnergyHeader;
+  if (resume) return;  // on_resume opens it
+  out_ = std::make_unique<RowFile>(path_, /*truncate=*/true);
+  out_->append(kEnergyHeader);
 }
 
 void EnergyCsvWriter::on_resume(const Simulation& sim) {
@@ -199,8 +274,7 @@ void EnergyCsvWriter::on_resume(const Simulation& sim) {
                 " rows, the checkpoint was taken after ", keep);
   in.close();
   write_file_atomically(path_, text);
-  out_.open(path_, std::ios::app);
-  BRITTLE_CHECK(out_, "output: cannot write '", path_, "'");
+  out_ = std::make_unique<RowFile>(path_, /*truncate=*/false);
   initial_ = sim.initial_energy();
   first_ = false;
 }
@@ -208,11 +282,12 @@ void EnergyCsvWriter::on_resume(const Simulation& sim) {
 void EnergyCsvWriter::on_energy(const Simulation&, const Energies& e) {
   if (first_) initial_ = e.total(), first_ = false;
   const double imbalance = e.reference > 0 ? (e.total() - initial_) / e.reference : 0.0;
-  out_ << std::setprecision(12) << e.time << ',' << e.kinetic << ',' << e.elastic << ','
-       << e.viscous_dissipated << ',' << e.cohesive_stored << ',' << e.cohesive_dissipated << ','
-       << e.damage_dissipated << ',' << e.external_work << ',' << e.total() << ',' << imbalance
-       << '\n';
-  out_.flush();
+  std::ostringstream row;
+  row << std::setprecision(12) << e.time << ',' << e.kinetic << ',' << e.elastic << ','
+      << e.viscous_dissipated << ',' << e.cohesive_stored << ',' << e.cohesive_dissipated << ','
+      << e.damage_dissipated << ',' << e.external_work << ',' << e.total() << ',' << imbalance
+      << '\n';
+  out_->append(row.str());
 }
 
 void CrackTipCsvWriter::on_finish(const Simulation& sim, const RunSummary&) {
@@ -237,51 +312,61 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   const Energies& e = s.final_energies;
   nlohmann::ordered_json j;
   j["status"] = s.status;
+  // Values every run defines (energies, times, dt, the load): one that is not finite means
+  // the run went wrong (a blow-up); it is null, and the status names it. Values that may be
+  // undefined (a speed fitted to fewer than 3 samples, a tip that has not moved yet) are
+  // null without a word: docs/scenes.md, "When a run fails".
+  std::vector<std::string> non_finite;
+  auto measured = [&](const std::string& key, double v) {
+    if (!std::isfinite(v)) non_finite.push_back(key);
+    return number(v);
+  };
   j["scene_sources"] = sim.scene().sources;
   j["nodes"] = s.nodes;
   j["tets"] = s.tets;
   j["fixed_nodes"] = s.fixed_nodes;
-  j["sigma"] = number(s.sigma);
-  j["sigma_over_sigmac"] = number(s.sigma / sim.scene().material.sigma_c);
-  j["dt"] = number(s.dt);
-  j["final_dt"] = number(s.final_dt);
+  j["sigma"] = measured("sigma", s.sigma);
+  j["sigma_over_sigmac"] = measured("sigma_over_sigmac", s.sigma / sim.scene().material.sigma_c);
+  j["dt"] = measured("dt", s.dt);
+  j["final_dt"] = measured("final_dt", s.final_dt);
   j["dt_reductions"] = s.dt_reductions;
   j["substep_cap_steps"] = s.substep_cap_steps;
-  j["end_time"] = number(s.end_time);
-  j["time"] = number(s.time);
+  j["end_time"] = measured("end_time", s.end_time);
+  j["time"] = measured("time", s.time);
   j["steps"] = s.steps;
   j["threads"] = s.threads;
-  j["wall_seconds"] = number(s.wall_seconds);
-  j["tet_updates_per_second"] = number(s.tet_updates_per_second);
-  for (const auto& [name, seconds] : s.phases.named()) j["phases"][name] = number(seconds);
-  j["initial_energy"] = number(s.initial_elastic);
-  j["final_kinetic"] = number(e.kinetic);
-  j["final_elastic"] = number(e.elastic);
-  j["viscous_dissipated"] = number(e.viscous_dissipated);
-  j["cohesive_stored"] = number(e.cohesive_stored);
-  j["cohesive_dissipated"] = number(e.cohesive_dissipated);
-  j["damage_dissipated"] = number(e.damage_dissipated);
-  j["external_work"] = number(e.external_work);
+  j["wall_seconds"] = measured("wall_seconds", s.wall_seconds);
+  j["tet_updates_per_second"] = measured("tet_updates_per_second", s.tet_updates_per_second);
+  for (const auto& [name, seconds] : s.phases.named())
+    j["phases"][name] = measured(std::string("phases.") + name, seconds);
+  j["initial_energy"] = measured("initial_energy", s.initial_elastic);
+  j["final_kinetic"] = measured("final_kinetic", e.kinetic);
+  j["final_elastic"] = measured("final_elastic", e.elastic);
+  j["viscous_dissipated"] = measured("viscous_dissipated", e.viscous_dissipated);
+  j["cohesive_stored"] = measured("cohesive_stored", e.cohesive_stored);
+  j["cohesive_dissipated"] = measured("cohesive_dissipated", e.cohesive_dissipated);
+  j["damage_dissipated"] = measured("damage_dissipated", e.damage_dissipated);
+  j["external_work"] = measured("external_work", e.external_work);
   j["warnings"] = s.warnings;
-  j["max_relative_imbalance"] = number(s.max_relative_imbalance);
+  j["max_relative_imbalance"] = measured("max_relative_imbalance", s.max_relative_imbalance);
   j["splits"] = s.splits;
   j["live_links"] = s.live_links;
-  j["crack_area"] = number(s.crack_area);
-  j["tip_x"] = number(s.tip_x);
-  j["tip_y"] = number(s.tip_y);
+  j["crack_area"] = measured("crack_area", s.crack_area);
+  j["tip_x"] = measured("tip_x", s.tip_x);
+  j["tip_y"] = measured("tip_y", s.tip_y);
   j["crack_speed"] = number(s.crack_speed.speed);
   j["crack_speed_samples"] = s.crack_speed.samples;
   j["crack_speed_window"] = {number(s.crack_speed.t_begin), number(s.crack_speed.t_end)};
   j["crack_speed_r2"] = number(s.crack_speed.r2);
-  j["speed_stop_x"] = number(s.speed_stop_x);
+  j["speed_stop_x"] = measured("speed_stop_x", s.speed_stop_x);
   j["checkpoint"] = nullptr;  // the last checkpoint written (docs/checkpoint.md), if any
   j["checkpoint_time"] = nullptr;
   if (!s.checkpoint.empty()) j["checkpoint"] = s.checkpoint, j["checkpoint_time"] = number(s.checkpoint_time);
   j["checkpoints_written"] = s.checkpoints;
   j["checkpoint_bytes"] = s.checkpoint_bytes;
   j["checkpoint_seconds"] = number(s.checkpoint_seconds);
-  j["W"] = number(s.W);
-  j["zhou_speed"] = number(s.zhou_speed);
+  j["W"] = measured("W", s.W);
+  j["zhou_speed"] = measured("zhou_speed", s.zhou_speed);
   // Every crack tip, branching and nucleation (docs/crack_fronts.md); positions reference.
   const CrackFronts& fronts = sim.fronts();
   j["tips"] = nlohmann::ordered_json::array();
@@ -317,6 +402,11 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   for (const Nucleation& n : fronts.nucleations())
     j["nucleations"].push_back(
         {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
+  if (!non_finite.empty()) {
+    std::string names;
+    for (const std::string& name : non_finite) names += (names.empty() ? "" : ", ") + name;
+    j["status"] = s.status + "; non-finite values written as null: " + names;
+  }
   return j.dump(2) + "\n";
 }
 

@@ -1,6 +1,7 @@
 // Observers that write a run to disk: VTU frames + a .pvd collection (ParaView time
-// series), energies.csv and summary.json (SPEC 9). Every file is written whole and renamed
-// into place, so a run that stops early leaves only complete, readable files.
+// series), energies.csv and summary.json (SPEC 9). Every file is written whole, checked and
+// renamed into place (energies.csv: checked whole rows), so a run that stops early, even on a
+// full disk, leaves only complete, readable files and no .tmp (docs/scenes.md, "When a run fails").
 #pragma once
 
 #include <fstream>
@@ -55,8 +56,28 @@ class CrackTipCsvWriter : public Observer {
   std::string directory_;
 };
 
+/// A text file grown by whole rows (energies.csv): every append is written at once and
+/// checked. A failed append throws brittle::Error naming the file and the operating system's
+/// reason and cuts the file back to its last whole row; the file is then closed.
+class RowFile {
+ public:
+  /// Opens `path` emptied (truncate) or to append to what it holds.
+  RowFile(std::string path, bool truncate);
+  ~RowFile();
+  RowFile(const RowFile&) = delete;
+  RowFile& operator=(const RowFile&) = delete;
+  /// Appends one or more whole rows, each ending in '\n'.
+  void append(const std::string& rows);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  long long size_ = 0;  // bytes of whole rows in the file
+};
+
 /// <dir>/energies.csv: one row per energy interval, every term of the budget and the
-/// relative imbalance |E(t) - E(0)| / E(0).
+/// relative imbalance |E(t) - E(0)| / E(0). Each row is checked as it is written.
 class EnergyCsvWriter : public Observer {
  public:
   /// Starts the file (header only), or with `resume` leaves it for on_resume.
@@ -67,7 +88,7 @@ class EnergyCsvWriter : public Observer {
 
  private:
   std::string path_;
-  std::ofstream out_;
+  std::unique_ptr<RowFile> out_;  // null until opened (a resumed run: on_resume)
   double initial_ = 0;
   bool first_ = true;
 };
@@ -96,7 +117,9 @@ struct PvdEntry {
 /// brittle::Error naming the file if it cannot be parsed.
 std::vector<PvdEntry> read_pvd(const std::string& path);
 
-/// Writes `text` to `path` through a temporary file and a rename.
+/// Writes `text` to `path` through `path`.tmp, checked write, fsync, close and rename. On any
+/// failure the temporary file is removed, `path` keeps what it held, and brittle::Error names
+/// `path` and the operating system's reason ("No space left on device").
 void write_file_atomically(const std::string& path, const std::string& text);
 
 /// The standard set for a run, in scene.output.directory.

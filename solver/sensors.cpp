@@ -9,7 +9,9 @@
 #include <iomanip>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include "error.hpp"
 #include "output.hpp"
@@ -76,11 +78,10 @@ void SensorRecorder::on_start(const Simulation& sim) {
     nodes_.push_back(best);
   }
   if (sim.resumed()) return;  // on_resume kept the rows so far
-  out_.open(directory_ + "/sensors.csv", std::ios::trunc);
-  BRITTLE_CHECK(out_, "output: cannot write '", directory_, "/sensors.csv'");
-  out_ << "time";
-  for (const SensorParams& p : sensors_) out_ << ',' << p.name;
-  out_ << '\n' << std::setprecision(17);
+  out_ = std::make_unique<RowFile>(directory_ + "/sensors.csv", /*truncate=*/true);
+  std::string header = "time";
+  for (const SensorParams& p : sensors_) header += ',' + p.name;
+  out_->append(header + "\n");
   record(sim);
 }
 
@@ -105,30 +106,35 @@ void SensorRecorder::on_resume(const Simulation& sim) {
                 " rows, the checkpoint was taken after ", keep);
   in.close();
   write_file_atomically(path, text);
-  out_.open(path, std::ios::app);
-  BRITTLE_CHECK(out_, "output: cannot write '", path, "'");
-  out_ << std::setprecision(17);
+  out_ = std::make_unique<RowFile>(path, /*truncate=*/false);
 }
 
 void SensorRecorder::record(const Simulation& sim) {
   const double* v = sim.grid().v();
   times_.push_back(sim.time());
-  out_ << sim.time();
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", sim.time());
+  pending_ += text;
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
     const double* n = sensors_[i].direction;
     const double* vi = v + 3 * nodes_[i];
     const double value = vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2];
     values_[i].push_back(value);
-    out_ << ',' << value;
+    std::snprintf(text, sizeof text, ",%.17g", value);
+    pending_ += text;
   }
-  out_ << '\n';
+  pending_ += '\n';
+  if (pending_.size() > (1 << 16)) out_->append(std::exchange(pending_, {}));
 }
 
 void SensorRecorder::on_step(const Simulation& sim) { record(sim); }
 
+void SensorRecorder::on_checkpoint(const Simulation&, const std::string&) {
+  if (out_ && !pending_.empty()) out_->append(std::exchange(pending_, {}));
+}
+
 void SensorRecorder::on_finish(const Simulation& sim, const RunSummary&) {
-  out_.flush();
-  BRITTLE_CHECK(out_, "output: cannot write '", directory_, "/sensors.csv'");
+  if (out_ && !pending_.empty()) out_->append(std::exchange(pending_, {}));
   std::vector<Spectrum> spectra;
   for (const auto& v : values_) spectra.push_back(amplitude_spectrum(times_, v));
   std::ostringstream csv;

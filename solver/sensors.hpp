@@ -3,10 +3,11 @@
 // (Hann window, Eigen's FFT) into spectra.csv and a summary per sensor into sensors.json.
 #pragma once
 
-#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "output.hpp"
 #include "simulation.hpp"
 
 namespace brittle {
@@ -32,6 +33,8 @@ class SensorRecorder : public Observer {
   void on_resume(const Simulation& sim) override;
   void on_step(const Simulation& sim) override;
   void on_finish(const Simulation& sim, const RunSummary& s) override;
+  /// The rows so far reach the file before a checkpoint is taken (a resume reads them).
+  void on_checkpoint(const Simulation& sim, const std::string& path) override;
   /// The node each sensor reads (after on_start).
   const std::vector<vtkIdType>& nodes() const { return nodes_; }
 
@@ -42,7 +45,8 @@ class SensorRecorder : public Observer {
   std::vector<vtkIdType> nodes_;
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;  // per sensor
-  std::ofstream out_;
+  std::unique_ptr<RowFile> out_;  // sensors.csv, whole rows checked (output.hpp)
+  std::string pending_;            // rows not yet appended
 };
 
 }  // namespace brittle

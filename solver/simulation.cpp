@@ -368,7 +368,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         checkpoint();  // so that the run can be extended (--resume with a later run.end_time)
       summary.status = "completed";
     }
-  } catch (const Error& e) {
+  } catch (const std::exception& e) {  // a blow-up, or a writer (disk full, bad_alloc, ...)
     summary.status = std::string("failed: ") + e.what();
     for (const std::string& w : take_step_warnings()) warn(w);  // they may explain the failure
   }
@@ -403,7 +403,16 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
   summary.zhou_speed = zhou_speed(summary.W);
   summary.phases = phases();
-  for (Observer* o : observers) o->on_finish(*this, summary);
+  // Every observer gets on_finish (the summary is written after the CSVs); the first error
+  // is the one reported, in the status of the observers after it and by the throw below.
+  for (Observer* o : observers) {
+    try {
+      o->on_finish(*this, summary);
+    } catch (const std::exception& e) {
+      if (!summary.status.starts_with("failed: "))
+        summary.status = std::string("failed: ") + e.what();
+    }
+  }
   if (summary.status.starts_with("failed: ")) throw Error(summary.status.substr(8));
   return summary;
 }

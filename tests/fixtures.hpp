@@ -2,13 +2,54 @@
 // observer that records every energy row, and a helper that runs a scene on a fresh mesh.
 #pragma once
 
+#include <sys/mount.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
 namespace brittle::testing {
+
+/// A tmpfs of `bytes` on a fresh directory: a full disk on demand. mounted() is false where
+/// mounting is not permitted (not root, no CAP_SYS_ADMIN) and reason() says why: skip then.
+/// Unmounted and removed when it goes out of scope, whatever the test did.
+class SmallTmpfs {
+ public:
+  explicit SmallTmpfs(std::size_t bytes) {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "brittle_tmpfs_XXXXXX").string();
+    if (!mkdtemp(pattern.data())) {
+      reason_ = std::strerror(errno);
+      return;
+    }
+    path_ = pattern;
+    const std::string options = "size=" + std::to_string(bytes);
+    mounted_ = ::mount("tmpfs", path_.c_str(), "tmpfs", 0, options.c_str()) == 0;
+    if (!mounted_) reason_ = std::strerror(errno);
+  }
+  ~SmallTmpfs() {
+    if (mounted_) ::umount2(path_.c_str(), MNT_DETACH);
+    std::error_code ec;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+  }
+  SmallTmpfs(const SmallTmpfs&) = delete;
+  SmallTmpfs& operator=(const SmallTmpfs&) = delete;
+  bool mounted() const { return mounted_; }
+  const std::string& reason() const { return reason_; }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  bool mounted_ = false;
+  std::string reason_;
+};
 
 /// The paper's plate on CM (scene defaults = paper values) at sigma / sigma_c = `load`, run
 /// to `end_time`, no files written, no frames.

@@ -14,8 +14,18 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkFieldData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
 #include "cli_helpers.hpp"
 #include "error.hpp"
+#include "fixtures.hpp"
+#include "output.hpp"
 #include "scene_options.hpp"
 
 namespace fs = std::filesystem;
@@ -778,7 +788,8 @@ TEST(Executable, GuardsRefuseAtOnce) {
   const std::vector<Case> cases = {
       {"[mesh]\nsize = 1e-9\n", {"mesh.size = 1e-09", "mesh.max_elements"}},
       {"[mesh]\nlayers = 100000\n", {"mesh.layers = 100000", "mesh.max_elements"}},
-      {"[geometry]\nH = 1e3\n", {"geometry.L x H", "mesh.max_elements"}},
+      {"[geometry]\nH = 20\n", {"geometry.L x H", "mesh.max_elements"}},
+      {"[geometry]\nH = 1e3\n", {"geometry.L x H", "within a factor 1000"}},
       {"[output]\nenergy_interval = 1e-300\n", {"output.energy_interval", "energy rows"}},
       {"[output]\nframe_interval = 1e-12\n", {"output.frame_interval", "frames"}},
       {"[output]\nframe_interval = 1e-300\n", {"output.frame_interval", "frames"}},
@@ -830,4 +841,124 @@ TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
   const Result big = run_brittle(dir, {"run", file, "--dry-run", "--set", "mesh.size=1e-9"});
   EXPECT_EQ(big.exit_code, 2);
   EXPECT_TRUE(contains(big.err, "mesh.max_elements")) << big.err;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Failures keep data (issue 12, item 3): a run that stops writes only complete files, no .tmp,
+// and a summary that is valid JSON whenever it can be written; the error is the first one.
+
+namespace {
+
+/// The last line of `text` without its newline.
+std::string last_line(const std::string& text) {
+  const std::size_t end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return "";
+  const std::size_t begin = text.rfind('\n', end);
+  const std::size_t first = begin == std::string::npos ? 0 : begin + 1;
+  return text.substr(first, end - first + 1);
+}
+
+/// Every file under `dir` whose name ends with `.tmp`.
+std::vector<std::string> temporary_files(const fs::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".tmp") found.push_back(e.path().string());
+  return found;
+}
+
+/// Every VTU / VTP in `dir`/frames reads back whole (VTK reports no error, every cell there),
+/// and every file a .pvd lists exists.
+void expect_complete_frames(const fs::path& dir, vtkIdType cells) {
+  for (const auto& e : fs::directory_iterator(dir / "frames")) {
+    const std::string file = e.path().string();
+    vtkSmartPointer<vtkXMLReader> reader;
+    if (e.path().extension() == ".vtu")
+      reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    else
+      reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    EXPECT_EQ(reader->GetErrorCode(), 0) << file;
+    vtkDataSet* data = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+    ASSERT_NE(data, nullptr) << file;
+    if (e.path().extension() == ".vtu") {
+      EXPECT_EQ(data->GetNumberOfCells(), cells) << file;
+    }
+    vtkDataArray* time = data->GetFieldData()->GetArray("TimeValue");
+    EXPECT_NE(time, nullptr) << file;
+  }
+  for (const char* pvd : {"run.pvd", "links.pvd"}) {
+    if (!fs::exists(dir / pvd)) continue;
+    std::vector<brittle::PvdEntry> entries;
+    ASSERT_NO_THROW(entries = brittle::read_pvd((dir / pvd).string())) << pvd;
+    for (const auto& entry : entries) EXPECT_TRUE(fs::is_regular_file(entry.file)) << entry.file;
+  }
+}
+
+}  // namespace
+
+// A run that blows up (a patch of nodes thrown at 20 km/s inverts its elements in the first
+// step): exit 2, the blow-up on one line, frames so far, and a summary that is valid JSON with
+// null where the numbers are not finite and a status that says so.
+TEST(Failures, ABlowUpWritesAValidSummary) {
+  TempDir dir;
+  const std::string file =
+      dir.write("kick.ini",
+                "[mesh]\nsize = 2e-3\n[loading]\nsigma_over_sigmac = 0.5\n[run]\nend_time = 2e-6\n"
+                "threads = 1\n[initial.kick]\nbox = 0.014, 0.018, -0.002, 0.002, -inf, inf\n"
+                "velocity = 0, 2e4, 0\n");
+  const fs::path out = dir / "out";
+  const Result r = run_brittle(dir, {"run", file, "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const std::string error = last_line(r.err);
+  EXPECT_EQ(error.rfind("brittle: error: blow-up at t = ", 0), 0u) << r.err;
+  const std::string text = read_text(out / "summary.json");
+  nlohmann::json j;
+  ASSERT_NO_THROW(j = nlohmann::json::parse(text)) << text;
+  const std::string status = j.at("status");
+  EXPECT_EQ(
+      status.rfind("failed: " + error.substr(16) + "; non-finite values written as null: ", 0), 0u)
+      << status;
+  EXPECT_TRUE(contains(status, "final_elastic")) << status;
+  EXPECT_TRUE(j.at("final_elastic").is_null());
+  EXPECT_EQ(text.find("nan"), std::string::npos) << text;
+  EXPECT_EQ(text.find("inf"), std::string::npos) << text;
+  EXPECT_TRUE(temporary_files(out).empty());
+  EXPECT_EQ(brittle::read_pvd((out / "run.pvd").string()).size(), 1u);  // the frame at t = 0
+  expect_complete_frames(out, 996);
+}
+
+// A run onto a full disk: a 2 MB tmpfs holds the CM plate's first two frames (0.7 + 1.0 MB)
+// but not the third. The run stops at once with one line naming that frame and the OS reason,
+// leaves no .tmp, every file it leaves is complete, and the summary (small: it fits once the
+// failed frame's temporary file is gone) carries the same first error.
+TEST(Failures, AFullDiskFailsCleanly) {
+  brittle::testing::SmallTmpfs disk(2 * 1024 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
+  TempDir dir;
+  const fs::path out = disk.path() / "run";
+  const Result r =
+      run_brittle(dir, {"run", std::string(BRITTLE_SOURCE_DIR) + "/scenes/cm.ini", "--set",
+                        "run.end_time=5e-6", "--set", "run.threads=1", "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const std::string error = last_line(r.err);
+  EXPECT_EQ(error, "brittle: error: output: cannot write '" +
+                       (out / "frames/frame_0002.vtu").string() + "': No space left on device")
+      << r.err;
+  EXPECT_TRUE(temporary_files(disk.path()).empty()) << temporary_files(disk.path()).front();
+  EXPECT_EQ(brittle::read_pvd((out / "run.pvd").string()).size(), 2u);
+  expect_complete_frames(out, 14676);
+  // energies.csv: whole rows only, from t = 0 on
+  std::ifstream csv(out / "energies.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 9) << line;
+    ++rows;
+  }
+  EXPECT_GT(rows, 2);
+  ASSERT_TRUE(fs::exists(out / "summary.json"));
+  nlohmann::json j;
+  ASSERT_NO_THROW(j = nlohmann::json::parse(read_text(out / "summary.json")));
+  EXPECT_EQ(j.at("status"), "failed: " + error.substr(16));
 }

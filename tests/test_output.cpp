@@ -3,9 +3,13 @@
 
 #include <cmath>
 #include <filesystem>
-#include <limits>
+#include <functional>
+#include <iterator>
 #include <fstream>
+#include <limits>
+#include <new>
 #include <string>
+#include <system_error>
 
 #include <nlohmann/json.hpp>
 #include <vtkCellData.h>
@@ -17,6 +21,7 @@
 
 #include "output.hpp"
 #include "error.hpp"
+#include "fixtures.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
@@ -143,12 +148,162 @@ TEST(Output, SummaryWithNonFiniteNumbersIsValidJson) {
   EXPECT_TRUE(j.at("crack_speed_r2").is_null());
   EXPECT_TRUE(j.at("final_elastic").is_null());
   EXPECT_TRUE(j.at("max_relative_imbalance").is_null());
-  EXPECT_EQ(j.at("status"), r.status);
+  // The status says which values every run defines were not finite; the crack speed and its
+  // fit may be undefined (fewer than 3 samples) and are null without a word.
+  EXPECT_EQ(
+      j.at("status"),
+      r.status + "; non-finite values written as null: final_elastic, max_relative_imbalance");
   EXPECT_EQ(j.at("warnings"), nlohmann::json(r.warnings));
   EXPECT_EQ(j.at("scene_sources"), nlohmann::json(s.sources));
   EXPECT_EQ(j.at("splits"), 3);
   EXPECT_EQ(text.find("nan"), std::string::npos);
   EXPECT_EQ(text.find("inf"), std::string::npos);
+
+  // A completed run without a steady crack speed keeps its status as it is.
+  RunSummary done;
+  done.status = "completed";
+  done.crack_speed.speed = std::nan("");
+  const auto k = nlohmann::json::parse(summary_json(sim, done));
+  EXPECT_EQ(k.at("status"), "completed");
+  EXPECT_TRUE(k.at("crack_speed").is_null());
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+/// The brittle::Error that `f` throws ("" and a test failure if none).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw a non-brittle exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "nothing thrown";
+  return "";
+}
+
+// A write that cannot be done throws brittle::Error naming the file and the reason, and
+// leaves no temporary file; the file keeps what it held.
+TEST(Output, AFailedWriteNamesTheFileAndLeavesNoTemporaryFile) {
+  const std::string missing = "/nonexistent_brittle_dir/summary.json";
+  const std::string message = error_of([&] { write_file_atomically(missing, "{}\n"); });
+  EXPECT_NE(message.find(missing), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+
+  testing::SmallTmpfs disk(64 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
+  const fs::path file = disk.path() / "frame.vtu";
+  write_file_atomically(file.string(), "complete\n");
+  const std::string full =
+      error_of([&] { write_file_atomically(file.string(), std::string(200 * 1024, 'x')); });
+  EXPECT_EQ(full, "output: cannot write '" + file.string() + "': No space left on device");
+  EXPECT_EQ(file_text(file), "complete\n");
+  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(disk.path()), fs::directory_iterator()), 1);
+}
+
+// energies.csv grows by rows: on a full disk the append throws naming the file and the
+// reason, and the file ends with a whole row (the part of the row that landed is cut).
+TEST(Output, ARowFileOnAFullDiskKeepsWholeRows) {
+  testing::SmallTmpfs disk(64 * 1024);
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here: " << disk.reason();
+  const fs::path file = disk.path() / "energies.csv";
+  const std::string row = "0.125," + std::string(1000, '7') + "\n";  // does not divide 64 k
+  RowFile csv(file.string(), /*truncate=*/true);
+  std::string message;
+  int rows = 0;
+  for (; rows < 1000 && message.empty(); ++rows) {
+    try {
+      csv.append(row);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  EXPECT_EQ(message, "output: cannot write '" + file.string() + "': No space left on device");
+  EXPECT_GT(rows, 10);
+  const std::string text = file_text(file);
+  EXPECT_EQ(text.size(), (rows - 1) * row.size());
+  EXPECT_EQ(text.size() % row.size(), 0u);
+  // closed after its first error: later rows are refused, the file stays as it was
+  EXPECT_THROW(csv.append(row), Error);
+  EXPECT_EQ(file_text(file).size(), text.size());
+}
+
+/// Throws `what` from on_frame at the given frame, or from on_finish.
+struct Thrower : Observer {
+  int frame = -1;
+  bool at_finish = false;
+  std::function<void()> raise;
+  int frames = 0;
+  void on_frame(const Simulation&) override {
+    if (frames++ == frame) raise();
+  }
+  void on_finish(const Simulation&, const RunSummary&) override {
+    if (at_finish) raise();
+  }
+};
+
+std::string summary_status(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  return nlohmann::json::parse(in).at("status");
+}
+
+// Whatever stops a run (not only brittle::Error: a std::bad_alloc or a filesystem_error inside
+// the step loop), the summary is written with "failed: <that error>", run() throws it as
+// brittle::Error, and a later failure (here an observer's on_finish) does not replace it. A
+// completed run whose writer fails in on_finish is failed by the first such error, and the
+// summary written after it says so.
+TEST(Output, TheFirstErrorIsReportedAndTheSummaryStillWritten) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_test_first_error";
+  Scene s;
+  s.loading.sigma_over_sigmac = 0.5;
+  s.geometry.H = 2e-3;
+  s.run.end_time = 2e-7;
+  s.output.frame_times = {0.0, 1e-7};
+  s.output.directory = dir.string();
+  auto mesh = generate_box_mesh(4e-3, 2e-3, 1e-3, 1e-3);
+  for (const bool bad_alloc : {true, false}) {
+    fs::remove_all(dir);
+    Simulation sim(s, *mesh);
+    Thrower during, finish;
+    during.frame = 1;
+    during.raise = [&] {
+      if (bad_alloc) throw std::bad_alloc();
+      throw fs::filesystem_error("cannot rename",
+                                 std::make_error_code(std::errc::no_space_on_device));
+    };
+    finish.at_finish = true;
+    finish.raise = [] { throw Error("a later failure"); };
+    OutputWriters writers(sim);
+    std::vector<Observer*> observers = {&finish};  // on_finish before the writers'
+    for (Observer* o : writers.observers()) observers.push_back(o);
+    observers.push_back(&during);  // on_frame after the writers' (the frame is written)
+    const std::string message = error_of([&] { sim.run(observers); });
+    const std::string first =
+        bad_alloc ? "std::bad_alloc" : "filesystem error: cannot rename: No space left on device";
+    EXPECT_EQ(message.rfind(first, 0), 0u) << message;
+    EXPECT_EQ(summary_status(dir).rfind("failed: " + first, 0), 0u) << summary_status(dir);
+    EXPECT_EQ(read_pvd((dir / "run.pvd").string()).size(), 2u);
+  }
+  fs::remove_all(dir);
+  Simulation sim(s, *mesh);
+  Thrower finish;
+  finish.at_finish = true;
+  finish.raise = [] {
+    throw Error("output: cannot write 'crack_tip.csv': No space left on device");
+  };
+  OutputWriters writers(sim);
+  std::vector<Observer*> observers = {&finish};
+  for (Observer* o : writers.observers()) observers.push_back(o);
+  EXPECT_EQ(error_of([&] { sim.run(observers); }),
+            "output: cannot write 'crack_tip.csv': No space left on device");
+  EXPECT_EQ(summary_status(dir),
+            "failed: output: cannot write 'crack_tip.csv': No space left on device");
 }
 
 }  // namespace
