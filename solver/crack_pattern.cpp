@@ -193,18 +193,7 @@ void write_pattern(const std::string& directory, const CrackPattern& p) {
   j["branches"] = p.branches.size();
   j["spurs"] = p.spurs;
   j["min_branch_length"] = number(p.min_length);
-  j["branching_points"] = nlohmann::ordered_json::array();
-  for (const BranchingEvent& b : p.branchings)
-    j["branching_points"].push_back({{"t", number(b.t)},
-                                     {"x", number(b.x)},
-                                     {"y", number(b.y)},
-                                     {"angle_deg", number(b.angle_deg)},
-                                     {"parent", b.parent},
-                                     {"children", {b.child_a, b.child_b}}});
-  j["nucleations"] = nlohmann::ordered_json::array();
-  for (const Nucleation& n : p.nucleations)
-    j["nucleations"].push_back(
-        {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
+  add_branchings_json(j, "branching_points", p.branchings, p.nucleations);
   j["tips"] = nlohmann::ordered_json::array();
   for (const Branch& b : p.branches)
     j["tips"].push_back({{"tip", b.tip},

@@ -46,14 +46,6 @@ void write_all(int fd, const std::string& bytes) {
   }
 }
 
-/// Records VTK errors and warnings instead of printing them.
-class Failed : public vtkCommand {
- public:
-  static Failed* New() { return new Failed; }
-  void Execute(vtkObject*, unsigned long, void*) override { failed = true; }
-  bool failed = false;
-};
-
 }  // namespace
 
 std::string read_isolated(const std::string& what, const std::string& reader,
@@ -165,7 +157,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
       what + " '" + path + "'", "VTK reader", "a VTK XML unstructured grid (.vtu)", size,
       [&](StateWriter& w) {
         vtkNew<vtkXMLUnstructuredGridReader> reader;
-        vtkNew<Failed> failed;
+        vtkNew<VtkErrorFlag> failed;
         reader->AddObserver(vtkCommand::ErrorEvent, failed);
         if (!reader->CanReadFile(path.c_str()))
           throw std::runtime_error("not a VTK XML unstructured grid");

@@ -6,12 +6,22 @@
 #include <functional>
 #include <string>
 
+#include <vtkCommand.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
 #include "checkpoint.hpp"
 
 namespace brittle {
+
+/// Observes a VTK reader's error (and warning) events instead of letting them print: `failed`
+/// says whether one came.
+class VtkErrorFlag : public vtkCommand {
+ public:
+  static VtkErrorFlag* New() { return new VtkErrorFlag; }
+  void Execute(vtkObject*, unsigned long, void*) override { failed = true; }
+  bool failed = false;
+};
 
 /// Runs `read` in a child process; it writes its result into the StateWriter. Returns the
 /// bytes it wrote, or throws brittle::Error "<what>: <reader> crashed (SIGSEGV) on this file

@@ -308,6 +308,23 @@ nlohmann::json number(double v) {
 }
 }  // namespace
 
+void add_branchings_json(nlohmann::ordered_json& j, const std::string& key,
+                         const std::vector<BranchingEvent>& branchings,
+                         const std::vector<Nucleation>& nucleations) {
+  j[key] = nlohmann::ordered_json::array();
+  for (const BranchingEvent& b : branchings)
+    j[key].push_back({{"t", number(b.t)},
+                      {"x", number(b.x)},
+                      {"y", number(b.y)},
+                      {"angle_deg", number(b.angle_deg)},
+                      {"parent", b.parent},
+                      {"children", {b.child_a, b.child_b}}});
+  j["nucleations"] = nlohmann::ordered_json::array();
+  for (const Nucleation& n : nucleations)
+    j["nucleations"].push_back(
+        {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
+}
+
 std::string summary_json(const Simulation& sim, const RunSummary& s) {
   const Energies& e = s.final_energies;
   nlohmann::ordered_json j;
@@ -390,18 +407,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
     j["tips"].push_back(tip);
   }
   j["leading_tip"] = fronts.leading();
-  j["branchings"] = nlohmann::ordered_json::array();
-  for (const BranchingEvent& b : fronts.branchings())
-    j["branchings"].push_back({{"t", number(b.t)},
-                               {"x", number(b.x)},
-                               {"y", number(b.y)},
-                               {"angle_deg", number(b.angle_deg)},
-                               {"parent", b.parent},
-                               {"children", {b.child_a, b.child_b}}});
-  j["nucleations"] = nlohmann::ordered_json::array();
-  for (const Nucleation& n : fronts.nucleations())
-    j["nucleations"].push_back(
-        {{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}, {"tip", n.tip}});
+  add_branchings_json(j, "branchings", fronts.branchings(), fronts.nucleations());
   if (!non_finite.empty()) {
     std::string names;
     for (const std::string& name : non_finite) names += (names.empty() ? "" : ", ") + name;

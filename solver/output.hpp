@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "simulation.hpp"
 
 namespace brittle {
@@ -96,6 +98,12 @@ class EnergyCsvWriter : public Observer {
 /// summary.json's text: every RunSummary field, the scene sources and the warnings;
 /// numbers that are not finite are null (nlohmann::json, so the file is always valid JSON).
 std::string summary_json(const Simulation& sim, const RunSummary& s);
+
+/// `key`: the branching events (t, x, y, angle_deg, parent, children) and "nucleations" (t, x,
+/// y, tip) into j, numbers that are not finite as null (summary.json, pattern.json).
+void add_branchings_json(nlohmann::ordered_json& j, const std::string& key,
+                         const std::vector<BranchingEvent>& branchings,
+                         const std::vector<Nucleation>& nucleations);
 
 /// <dir>/summary.json at the end of the run (also when it failed, with its status).
 class SummaryWriter : public Observer {

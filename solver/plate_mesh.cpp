@@ -271,17 +271,9 @@ TetSoup read_msh(const std::string& path) {
   }
 }
 
-/// Records VTK errors instead of letting them reach the output window.
-class ErrorCatcher : public vtkCommand {
- public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void*) override { failed = true; }
-  bool failed = false;
-};
-
 TetSoup read_vtu(const std::string& path) {
   vtkNew<vtkXMLUnstructuredGridReader> reader;
-  vtkNew<ErrorCatcher> catcher;
+  vtkNew<VtkErrorFlag> catcher;
   reader->AddObserver(vtkCommand::ErrorEvent, catcher);
   reader->AddObserver(vtkCommand::WarningEvent, catcher);
   if (!reader->CanReadFile(path.c_str()))
