@@ -26,26 +26,6 @@ double number_at(const nlohmann::json& j, const char* key, const std::string& fi
   return it->get<double>();
 }
 
-/// The axis range of values, with a margin (a flat series gets a unit range).
-std::pair<double, double> range_of(const std::vector<double>& v) {
-  if (v.empty()) return {0, 1};
-  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-  const double pad = *hi > *lo ? 0.05 * (*hi - *lo) : 1.0;
-  return {*lo - pad, *hi + pad};
-}
-
-/// One-series chart (VTK charts, off-screen) into `path`.
-void chart(const std::string& path, const std::string& title, const std::string& x_title,
-           const std::string& y_title, std::vector<render::ChartSeries> series) {
-  std::vector<double> xs, ys;
-  for (const auto& s : series) xs.insert(xs.end(), s.x.begin(), s.x.end()), ys.insert(ys.end(), s.y.begin(), s.y.end());
-  render::ChartAxes axes;
-  axes.title = title, axes.x_title = x_title, axes.y_title = y_title;
-  std::tie(axes.x_min, axes.x_max) = range_of(xs);
-  std::tie(axes.y_min, axes.y_max) = range_of(ys);
-  render::write_chart_png(path, axes, series);
-}
-
 /// events_energy.png, events_rate.png and, with sensors, spectra.png (docs/acoustic_emission.md).
 void draw_charts(const std::string& dir, const CrackPattern& p) {
   const EnergyDistribution& d = p.distribution;
@@ -60,14 +40,14 @@ void draw_charts(const std::string& dir, const CrackPattern& p) {
     std::snprintf(title, sizeof title,
                   "Link-failure energies: dN/dE ~ E^-%.2f (r2 %.2f over %d bins; %s)", d.exponent,
                   d.r2, d.fitted_bins, d.power_law ? "a power law fits" : "no power law");
-    chart(dir + "/events_energy.png", title, "log10 energy [J]", "log10 events per bin (5/decade)",
+    render::write_chart_png(dir + "/events_energy.png", title, "log10 energy [J]", "log10 events per bin (5/decade)",
           {bins});
   }
   if (!d.rate.empty()) {
     render::ChartSeries rate{"link failures", {}, {}, render::ChartSeries::Style::line};
     for (std::size_t i = 0; i < d.rate.size(); ++i)
       rate.x.push_back(1e6 * d.rate_time[i]), rate.y.push_back(1e-6 * d.rate[i]);
-    chart(dir + "/events_rate.png", "Event rate", "time [us]", "link failures per us", {rate});
+    render::write_chart_png(dir + "/events_rate.png", "Event rate", "time [us]", "link failures per us", {rate});
   }
   std::ifstream in(dir + "/spectra.csv");
   std::string header;
@@ -88,7 +68,7 @@ void draw_charts(const std::string& dir, const CrackPattern& p) {
     for (auto& s : series) std::getline(row, field, ','), s.x.push_back(f), s.y.push_back(std::stod(field));
   }
   if (!series.empty())
-    chart(dir + "/spectra.png", "Sensor amplitude spectra (Hann window)", "frequency [kHz]",
+    render::write_chart_png(dir + "/spectra.png", "Sensor amplitude spectra (Hann window)", "frequency [kHz]",
           "amplitude [m/s]", series);
 }
 

@@ -22,6 +22,7 @@
 #include "scene_options.hpp"
 #include "simulation.hpp"
 #include "stop_signal.hpp"
+#include "study.hpp"
 #include "sweep.hpp"
 
 namespace po = boost::program_options;
@@ -44,6 +45,8 @@ const char* kUsage =
     "[--reuse]\n"
     "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
     "[--out DIR]\n"
+    "       brittle study mesh SCENE.ini [MORE.ini ...] --sizes 1e-3,500e-6 [--case "
+    "LABEL[=A.ini,...] ...] [--jobs N] [--out DIR]  (docs/mesh-study.md)\n"
     "       brittle --version\n";
 
 /// Progress on stderr (steps, simulated time, ETA), only when stderr is a terminal.
@@ -200,6 +203,7 @@ int main(int argc, char** argv) {
     if (args[0] == "analyze") return brittle::analyze_command({args.begin() + 1, args.end()});
     if (args[0] == "reproduce") return brittle::reproduce_command({args.begin() + 1, args.end()});
     if (args[0] == "sweep") return brittle::sweep_command({args.begin() + 1, args.end()});
+    if (args[0] == "study") return brittle::study_command({args.begin() + 1, args.end()});
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;
   } catch (const std::exception& e) {  // control bytes of a binary input are escaped

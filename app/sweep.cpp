@@ -1,26 +1,18 @@
 // Load sweeps: parallel `brittle run` processes, results collected into sweep.csv.
 #include "sweep.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <map>
 #include <sstream>
-#include <thread>
 
 #include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
 
+#include "child_runs.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
 #include "figures.hpp"
@@ -28,8 +20,6 @@
 #include "output.hpp"
 #include "paths.hpp"
 #include "stop_signal.hpp"
-
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -47,31 +37,6 @@ std::string load_label(double load) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3) << load;
   return s.str();
-}
-
-/// Starts `exe args...` with stdout and stderr into `log`; returns its pid.
-pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
-  std::vector<char*> argv;
-  argv.push_back(const_cast<char*>(exe.c_str()));
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  // Its own process group: a Ctrl-C at the terminal reaches the sweep only, which passes one
-  // stop request on (run_sweep); the run would take a second one as "stop at once".
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attributes, 0);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, &attributes, argv.data(), environ);
-  posix_spawnattr_destroy(&attributes);
-  posix_spawn_file_actions_destroy(&actions);
-  BRITTLE_CHECK(rc == 0, "sweep: cannot start '", exe, "' (error ", rc, ")");
-  return pid;
 }
 
 }  // namespace
@@ -172,50 +137,25 @@ void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& poi
 std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
   BRITTLE_CHECK(!o.scenes.empty(), "brittle sweep: no scene file given");
   fs::create_directories(o.out);
-  const std::string exe = self_executable();
-  const int jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::string> dirs;
-  std::map<pid_t, std::size_t> running;
-  std::size_t next = 0;
-  auto start_next = [&] {
-    const double load = o.loads[next];
-    const std::string dir = o.out + "/load_" + load_label(load);
-    fs::create_directories(dir);
-    std::vector<std::string> args = {"run"};
-    args.insert(args.end(), o.scenes.begin(), o.scenes.end());
-    for (const std::string& s : o.sets) args.insert(args.end(), {"--set", s});
-    args.insert(args.end(), {"--set", "loading.sigma_over_sigmac=" + load_label(load), "--set",
-                             "run.threads=1", "--out", dir});
-    if (!o.frames) args.insert(args.end(), {"--set", "output.vtu=false"});
-    fs::remove(dir + "/summary.json");
-    running[spawn(exe, args, dir + "/run.log")] = next;
-    dirs.push_back(dir);
-    ++next;
-  };
-  // A stop request (SIGINT/SIGTERM, stop_signal.hpp) is passed to the running runs, which
-  // stop with a checkpoint; no more are started.
-  bool passed_on = false;
-  while (next < o.loads.size() || !running.empty()) {
-    const int stop = stop_signal().load();
-    if (stop && !passed_on) {
-      for (const auto& [pid, index] : running) kill(pid, stop);
-      passed_on = true;
-    }
-    while (!stop && next < o.loads.size() && static_cast<int>(running.size()) < jobs)
-      start_next();
-    if (running.empty()) break;
-    int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
-    if (pid < 0 && errno == EINTR) continue;  // a signal: look at the flag again
-    BRITTLE_CHECK(pid > 0, "sweep: waiting for the runs failed");
-    running.erase(pid);
+  std::vector<ChildRun> runs;
+  for (const double load : o.loads) {
+    ChildRun run;
+    run.directory = o.out + "/load_" + load_label(load);
+    run.args = {"run"};
+    run.args.insert(run.args.end(), o.scenes.begin(), o.scenes.end());
+    for (const std::string& s : o.sets) run.args.insert(run.args.end(), {"--set", s});
+    run.args.insert(run.args.end(), {"--set", "loading.sigma_over_sigmac=" + load_label(load),
+                                     "--set", "run.threads=1", "--out", run.directory});
+    if (!o.frames) run.args.insert(run.args.end(), {"--set", "output.vtu=false"});
+    runs.push_back(std::move(run));
   }
+  const std::size_t started = run_children(runs, o.jobs);
   std::vector<SweepPoint> points;
-  for (std::size_t i = 0; i < dirs.size(); ++i) {
-    points.push_back(read_run(dirs[i]));
+  for (std::size_t i = 0; i < started; ++i) {
+    points.push_back(read_run(runs[i].directory));
     if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
   }
-  for (std::size_t i = dirs.size(); i < o.loads.size(); ++i) {
+  for (std::size_t i = started; i < o.loads.size(); ++i) {
     SweepPoint p;
     p.load = o.loads[i];
     p.status = "not started: the sweep was stopped";

@@ -1,6 +1,10 @@
 // x-y charts through vtkContextView + vtkChartXY in the OSMesa-backed window.
 #include "chart.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
 #include <vtkAxis.h>
 #include <vtkBrush.h>
 #include <vtkChartLegend.h>
@@ -90,6 +94,34 @@ void write_chart_png(const std::string& path, const ChartAxes& axes,
   grab->SetInputBufferTypeToRGB();
   grab->Update();
   write_png(*grab->GetOutput(), path);
+}
+
+namespace {
+
+/// The range of the finite values, with a 5 % margin (a flat or empty range gets +-1).
+std::pair<double, double> padded_range(const std::vector<double>& v) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double x : v)
+    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+  if (!(lo <= hi)) return {0, 1};
+  const double pad = hi > lo ? 0.05 * (hi - lo) : 1.0;
+  return {lo - pad, hi + pad};
+}
+
+}  // namespace
+
+void write_chart_png(const std::string& path, const std::string& title, const std::string& x_title,
+                     const std::string& y_title, const std::vector<ChartSeries>& series) {
+  std::vector<double> xs, ys;
+  for (const ChartSeries& s : series) {
+    xs.insert(xs.end(), s.x.begin(), s.x.end());
+    ys.insert(ys.end(), s.y.begin(), s.y.end());
+  }
+  ChartAxes axes;
+  axes.title = title, axes.x_title = x_title, axes.y_title = y_title;
+  std::tie(axes.x_min, axes.x_max) = padded_range(xs);
+  std::tie(axes.y_min, axes.y_max) = padded_range(ys);
+  write_chart_png(path, axes, series);
 }
 
 }  // namespace brittle::render

@@ -27,4 +27,8 @@ struct ChartAxes {
 void write_chart_png(const std::string& path, const ChartAxes& axes,
                      const std::vector<ChartSeries>& series);
 
+/// The same on axes that fit the data with a 5 % margin (a flat or empty range gets +-1).
+void write_chart_png(const std::string& path, const std::string& title, const std::string& x_title,
+                     const std::string& y_title, const std::vector<ChartSeries>& series);
+
 }  // namespace brittle::render

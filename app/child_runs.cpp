@@ -1,0 +1,85 @@
+// Child `brittle run` processes for the batch commands: spawn with the log as stdout/stderr, in
+// their own process group, wait, forward one stop request.
+#include "child_runs.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "error.hpp"
+#include "paths.hpp"
+#include "stop_signal.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace brittle {
+namespace {
+
+/// Starts `exe args...` with stdout and stderr into `log`; returns its pid.
+pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(exe.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  // Its own process group: a Ctrl-C at the terminal reaches the batch command only, which
+  // passes one stop request on (run_children); the run would take a second one as "stop at
+  // once".
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
+  posix_spawn_file_actions_destroy(&actions);
+  BRITTLE_CHECK(rc == 0, "cannot start '", exe, "' (error ", rc, ")");
+  return pid;
+}
+
+}  // namespace
+
+std::size_t run_children(const std::vector<ChildRun>& runs, int jobs) {
+  const std::string exe = self_executable();
+  if (jobs <= 0) jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  bool passed_on = false;
+  while (next < runs.size() || !running.empty()) {
+    const int stop = stop_signal().load();
+    if (stop && !passed_on) {
+      for (const auto& entry : running) kill(entry.first, stop);
+      passed_on = true;
+    }
+    while (!stop && next < runs.size() && static_cast<int>(running.size()) < jobs) {
+      const ChildRun& run = runs[next];
+      fs::create_directories(run.directory);
+      fs::remove(run.directory + "/summary.json");
+      running[spawn(exe, run.args, run.directory + "/run.log")] = next;
+      ++next;
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0 && errno == EINTR) continue;  // a signal: look at the flag again
+    BRITTLE_CHECK(pid > 0, "waiting for the runs failed");
+    running.erase(pid);
+  }
+  return next;
+}
+
+}  // namespace brittle

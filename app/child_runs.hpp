@@ -1,0 +1,25 @@
+// Batch commands (sweep, study) run whole simulations as child `brittle run` processes, a few at
+// a time, each with its own directory and run.log, and pass a stop request on to them.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace brittle {
+
+/// One child run: the arguments after the executable, and the directory it writes into (its
+/// stdout and stderr go to <directory>/run.log).
+struct ChildRun {
+  std::vector<std::string> args;
+  std::string directory;
+};
+
+/// Runs `brittle` (this executable) once per entry, at most `jobs` at a time (0 = number of
+/// cores), in order. Each directory is created and a stale summary.json removed first, so a
+/// run that fails before writing one cannot be read as finished. A stop request
+/// (stop_signal.hpp) is passed on once to the running children, which stop with a checkpoint,
+/// and no more are started. Returns how many were started (the first ones of `runs`).
+std::size_t run_children(const std::vector<ChildRun>& runs, int jobs);
+
+}  // namespace brittle
