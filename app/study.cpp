@@ -284,7 +284,7 @@ void write_study_json(const std::string& path, const MeshStudyOptions& o,
 void study_chart(const std::string& out, const std::string& name, const std::string& title,
                  const std::string& y_title, const std::vector<StudyCase>& cases,
                  const std::vector<MeshStudyRow>& rows, double (*y)(const MeshStudyRow&),
-                 std::vector<render::ChartSeries> extra = {}) {
+                 render::ChartAxes::Corner legend, std::vector<render::ChartSeries> extra = {}) {
   static const std::array<std::array<unsigned char, 3>, 6> colours = {
       {{0, 0, 0}, {200, 30, 30}, {30, 90, 200}, {30, 150, 60}, {180, 120, 0}, {140, 40, 160}}};
   std::vector<render::ChartSeries> series;
@@ -299,11 +299,13 @@ void study_chart(const std::string& out, const std::string& name, const std::str
   for (auto& s : extra)
     if (!s.x.empty()) series.push_back(std::move(s));
   if (series.empty()) return;
-  render::write_chart_png(out + "/" + name + ".png", title, "log10 h [mm]", y_title, series);
+  render::write_chart_png(out + "/" + name + ".png", title, "log10 h [mm]", y_title, series,
+                          legend);
 }
 
 void write_study_charts(const std::string& out, const std::vector<StudyCase>& cases,
                         const std::vector<MeshStudyRow>& rows) {
+  using Corner = render::ChartAxes::Corner;
   // (6.10) as dashed lines, one per damage case.
   std::vector<render::ChartSeries> capacity;
   for (const StudyCase& c : cases) {
@@ -322,22 +324,24 @@ void write_study_charts(const std::string& out, const std::vector<StudyCase>& ca
   study_chart(out, "study_ratio", "Dissipation by links over damage, U_c/U_d, against h",
               "log10 U_c / U_d", cases, rows,
               [](const MeshStudyRow& r) { return r.ratio > 0 ? std::log10(r.ratio) : NAN; },
-              std::move(capacity));
+              Corner::top_right, std::move(capacity));
   study_chart(out, "study_branches", "Branches (tracks of at least the minimum length)",
-              "branches", cases, rows, [](const MeshStudyRow& r) { return r.branches; });
+              "branches", cases, rows, [](const MeshStudyRow& r) { return r.branches; },
+              Corner::top_right);
   study_chart(out, "study_area", "Crack area per unit advance, area / (2 T advance)",
               "area / (2 T advance)", cases, rows,
-              [](const MeshStudyRow& r) { return r.area_ratio; });
+              [](const MeshStudyRow& r) { return r.area_ratio; }, Corner::top_right);
   study_chart(out, "study_speed", "Steady crack speed", "speed [m/s]", cases, rows,
-              [](const MeshStudyRow& r) { return r.speed; });
+              [](const MeshStudyRow& r) { return r.speed; }, Corner::top_right);
   study_chart(out, "study_ae", "Acoustic emission: spectral centroid of the sensor",
               "centroid [kHz]", cases, rows,
-              [](const MeshStudyRow& r) { return 1e-3 * r.centroid_frequency; });
+              [](const MeshStudyRow& r) { return 1e-3 * r.centroid_frequency; }, Corner::top_right);
   study_chart(out, "study_events", "Acoustic emission: typical link-failure energy",
               "log10 energy of the fullest bin [J]", cases, rows,
               [](const MeshStudyRow& r) {
                 return r.event_energy_peak > 0 ? std::log10(r.event_energy_peak) : NAN;
-              });
+              },
+              Corner::bottom_right);
 }
 
 }  // namespace

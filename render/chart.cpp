@@ -39,8 +39,11 @@ void write_chart_png(const std::string& path, const ChartAxes& axes,
   chart->SetTitle(axes.title);
   chart->GetTitleProperties()->SetFontSize(18);
   chart->SetShowLegend(true);
-  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
-  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::BOTTOM);
+  using Corner = ChartAxes::Corner;
+  const bool right = axes.legend == Corner::bottom_right || axes.legend == Corner::top_right;
+  const bool top = axes.legend == Corner::top_right || axes.legend == Corner::top_left;
+  chart->GetLegend()->SetHorizontalAlignment(right ? vtkChartLegend::RIGHT : vtkChartLegend::LEFT);
+  chart->GetLegend()->SetVerticalAlignment(top ? vtkChartLegend::TOP : vtkChartLegend::BOTTOM);
   chart->GetLegend()->GetLabelProperties()->SetFontSize(14);
   struct AxisSpec {
     int which;
@@ -111,7 +114,8 @@ std::pair<double, double> padded_range(const std::vector<double>& v) {
 }  // namespace
 
 void write_chart_png(const std::string& path, const std::string& title, const std::string& x_title,
-                     const std::string& y_title, const std::vector<ChartSeries>& series) {
+                     const std::string& y_title, const std::vector<ChartSeries>& series,
+                     ChartAxes::Corner legend) {
   std::vector<double> xs, ys;
   for (const ChartSeries& s : series) {
     xs.insert(xs.end(), s.x.begin(), s.x.end());
@@ -119,6 +123,7 @@ void write_chart_png(const std::string& path, const std::string& title, const st
   }
   ChartAxes axes;
   axes.title = title, axes.x_title = x_title, axes.y_title = y_title;
+  axes.legend = legend;
   std::tie(axes.x_min, axes.x_max) = padded_range(xs);
   std::tie(axes.y_min, axes.y_max) = padded_range(ys);
   write_chart_png(path, axes, series);

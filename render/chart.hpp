@@ -21,6 +21,9 @@ struct ChartAxes {
   std::string title, x_title, y_title;
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
   int width = 900, height = 650;
+  /// The corner of the plot area the legend sits in: put it where the data is not.
+  enum class Corner { bottom_right, top_right, top_left, bottom_left };
+  Corner legend = Corner::bottom_right;
 };
 
 /// Draws the series on fixed axes with a legend and writes a PNG (throws brittle::Error).
@@ -29,6 +32,7 @@ void write_chart_png(const std::string& path, const ChartAxes& axes,
 
 /// The same on axes that fit the data with a 5 % margin (a flat or empty range gets +-1).
 void write_chart_png(const std::string& path, const std::string& title, const std::string& x_title,
-                     const std::string& y_title, const std::vector<ChartSeries>& series);
+                     const std::string& y_title, const std::vector<ChartSeries>& series,
+                     ChartAxes::Corner legend = ChartAxes::Corner::bottom_right);
 
 }  // namespace brittle::render
