@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "error.hpp"
+#include "parallel.hpp"
 #include "paths.hpp"
 #include "stop_signal.hpp"
 
@@ -24,6 +25,20 @@ namespace fs = std::filesystem;
 
 namespace brittle {
 namespace {
+
+/// This process's environment without the MPI launcher's variables, so that a child is a
+/// plain run and not a rank of a job it was never part of.
+std::vector<std::string> child_environment() {
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e) {
+    const std::string entry = *e;
+    bool mpi = false;
+    for (const char* prefix : {"OMPI_", "PMIX_", "PMI_", "HYDRA_", "MPI_LOCALNRANKS", "MPI_LOCALRANKID"})
+      mpi = mpi || entry.rfind(prefix, 0) == 0;
+    if (!mpi) env.push_back(entry);
+  }
+  return env;
+}
 
 /// Starts `exe args...` with stdout and stderr into `log`; returns its pid.
 pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
@@ -44,7 +59,11 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, &attributes, argv.data(), environ);
+  static const std::vector<std::string> env = child_environment();
+  std::vector<char*> envp;
+  for (const std::string& e : env) envp.push_back(const_cast<char*>(e.c_str()));
+  envp.push_back(nullptr);
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, &attributes, argv.data(), envp.data());
   posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   BRITTLE_CHECK(rc == 0, "cannot start '", exe, "' (error ", rc, ")");
@@ -53,23 +72,29 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
 
 }  // namespace
 
-std::size_t run_children(const std::vector<ChildRun>& runs, int jobs) {
+std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs) {
   const std::string exe = self_executable();
   if (jobs <= 0) jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  // This rank's share, in order.
+  const int rank = mpi_rank(), ranks = mpi_size();
+  std::vector<std::size_t> mine;
+  for (std::size_t i = rank; i < runs.size(); i += ranks) mine.push_back(i);
+  std::vector<int> started(runs.size(), 0);
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0;
   bool passed_on = false;
-  while (next < runs.size() || !running.empty()) {
+  while (next < mine.size() || !running.empty()) {
     const int stop = stop_signal().load();
     if (stop && !passed_on) {
       for (const auto& entry : running) kill(entry.first, stop);
       passed_on = true;
     }
-    while (!stop && next < runs.size() && static_cast<int>(running.size()) < jobs) {
-      const ChildRun& run = runs[next];
+    while (!stop && next < mine.size() && static_cast<int>(running.size()) < jobs) {
+      const ChildRun& run = runs[mine[next]];
       fs::create_directories(run.directory);
       fs::remove(run.directory + "/summary.json");
-      running[spawn(exe, run.args, run.directory + "/run.log")] = next;
+      running[spawn(exe, run.args, run.directory + "/run.log")] = mine[next];
+      started[mine[next]] = 1;
       ++next;
     }
     if (running.empty()) break;
@@ -79,7 +104,8 @@ std::size_t run_children(const std::vector<ChildRun>& runs, int jobs) {
     BRITTLE_CHECK(pid > 0, "waiting for the runs failed");
     running.erase(pid);
   }
-  return next;
+  mpi_max(started);  // every rank learns what was started anywhere
+  return std::vector<bool>(started.begin(), started.end());
 }
 
 }  // namespace brittle

@@ -19,7 +19,13 @@ struct ChildRun {
 /// cores), in order. Each directory is created and a stale summary.json removed first, so a
 /// run that fails before writing one cannot be read as finished. A stop request
 /// (stop_signal.hpp) is passed on once to the running children, which stop with a checkpoint,
-/// and no more are started. Returns how many were started (the first ones of `runs`).
-std::size_t run_children(const std::vector<ChildRun>& runs, int jobs);
+/// and no more are started.
+///
+/// Under mpirun with N ranks (parallel.hpp) every rank calls this with the same list: rank r
+/// runs the entries r, r + N, r + 2N, ... (`jobs` at a time on its node), the children get an
+/// environment without the MPI launcher's variables (each is a plain single-process run), and
+/// all ranks wait for each other at the end. Returns, per entry, whether it was started (on
+/// any rank).
+std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs);
 
 }  // namespace brittle

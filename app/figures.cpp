@@ -16,6 +16,7 @@
 #include "crack_tip.hpp"
 #include "error.hpp"
 #include "lists.hpp"
+#include "parallel.hpp"
 #include "paths.hpp"
 #include "render_commands.hpp"
 #include "scene.hpp"
@@ -321,6 +322,8 @@ int reproduce_command(const std::vector<std::string>& args) {
                     last_line(points[i].directory + "/run.log"));
     (spec.damage ? with : without).push_back({spec.label, std::move(points)});
   }
+  // Under mpirun every rank ran its share of each sweep; rank 0 draws and writes the rest.
+  if (mpi_rank() != 0) return 0;
   write_speed_chart(out + "/fig05.png", "Fig. 5: RI and RD nodal cohesive forces, no damage",
                     without);
   write_series_csv(out + "/fig05.csv", without);

@@ -22,6 +22,7 @@
 #include "error.hpp"
 #include "lists.hpp"
 #include "output.hpp"
+#include "parallel.hpp"
 #include "scene_options.hpp"
 #include "stop_signal.hpp"
 
@@ -413,17 +414,20 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
   fs::create_directories(o.out);
   std::vector<ChildRun> children;
   std::vector<bool> ready(plan.size(), false);  // reused or run
+  std::vector<std::size_t> child_of;             // plan index of each child
   for (std::size_t i = 0; i < plan.size(); ++i) {
     if (o.reuse && finished_same_run(plan[i].child)) {
       ready[i] = true;
-      std::fprintf(stderr, "brittle study: reusing %s\n", plan[i].child.directory.c_str());
+      if (mpi_rank() == 0)
+        std::fprintf(stderr, "brittle study: reusing %s\n", plan[i].child.directory.c_str());
     } else {
       children.push_back(plan[i].child);
+      child_of.push_back(i);
     }
   }
-  std::size_t started = run_children(children, o.jobs);
-  for (std::size_t i = 0; i < plan.size(); ++i)
-    if (!ready[i] && started > 0) ready[i] = true, --started;
+  const std::vector<bool> started = run_children(children, o.jobs);
+  for (std::size_t c = 0; c < children.size(); ++c)
+    if (started[c]) ready[child_of[c]] = true;
   std::vector<MeshStudyRow> rows;
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const std::string& label = cases[plan[i].case_index].label;
@@ -438,6 +442,7 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
     }
   }
   const auto exponents = study_exponents(rows);
+  if (mpi_rank() != 0) return rows;  // under mpirun rank 0 writes
   write_study_csv(o.out + "/study.csv", rows);
   write_study_json(o.out + "/study.json", o, cases, rows, exponents);
   write_study_charts(o.out, cases, rows);
@@ -494,6 +499,7 @@ int study_command(const std::vector<std::string>& args) {
   BRITTLE_CHECK(o.jobs >= 0, "--jobs ", o.jobs, " is out of range (expected >= 0)");
   install_stop_handlers();
   const auto rows = run_mesh_study(o);
+  if (mpi_rank() != 0) return stop_signal().load() ? 128 + stop_signal().load() : 0;
   bool all_completed = true;
   std::printf("%-18s %7s %3s %8s %6s %3s %3s %4s %6s %9s %9s %7s %7s %6s %6s %8s  %s\n", "case",
               "h [um]", "lay", "tets", "splits", "br", "bp", "nuc", "A/2Ta", "U_c [J]", "U_d [J]",

@@ -18,6 +18,7 @@
 #include "figures.hpp"
 #include "lists.hpp"
 #include "output.hpp"
+#include "parallel.hpp"
 #include "paths.hpp"
 #include "stop_signal.hpp"
 
@@ -149,19 +150,20 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
     if (!o.frames) run.args.insert(run.args.end(), {"--set", "output.vtu=false"});
     runs.push_back(std::move(run));
   }
-  const std::size_t started = run_children(runs, o.jobs);
+  const std::vector<bool> started = run_children(runs, o.jobs);
   std::vector<SweepPoint> points;
-  for (std::size_t i = 0; i < started; ++i) {
-    points.push_back(read_run(runs[i].directory));
-    if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (started[i]) {
+      points.push_back(read_run(runs[i].directory));
+      if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
+    } else {
+      SweepPoint p;
+      p.load = o.loads[i];
+      p.status = "not started: the sweep was stopped";
+      points.push_back(p);
+    }
   }
-  for (std::size_t i = started; i < o.loads.size(); ++i) {
-    SweepPoint p;
-    p.load = o.loads[i];
-    p.status = "not started: the sweep was stopped";
-    points.push_back(p);
-  }
-  write_sweep_csv(o.out + "/sweep.csv", points);
+  if (mpi_rank() == 0) write_sweep_csv(o.out + "/sweep.csv", points);
   return points;
 }
 
@@ -192,6 +194,7 @@ int sweep_command(const std::vector<std::string>& args) {
   BRITTLE_CHECK(o.jobs >= 0, "--jobs ", o.jobs, " is out of range (expected >= 0)");
   install_stop_handlers();
   const auto points = run_sweep(o);
+  if (mpi_rank() != 0) return stop_signal().load() ? 128 + stop_signal().load() : 0;
   bool all_completed = true;
   for (const SweepPoint& p : points) {
     std::printf("sigma/sigma_c = %.3f  W = %7.0f N/m  speed = %6.1f m/s  (fit r2 %.3f)%s  Zhou fit "

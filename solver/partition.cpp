@@ -1,0 +1,111 @@
+// METIS partition of the cells and the ghost layers it implies (docs/parallel.md).
+#include "partition.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "error.hpp"
+
+namespace brittle {
+
+double Partition::ghost_fraction() const {
+  long ghosts = 0;
+  for (const PartStats& s : stats) ghosts += s.ghost_nodes;
+  return node_owner.empty() ? 0.0 : double(ghosts) / double(node_owner.size());
+}
+
+double Partition::redundant_fraction() const {
+  long ghosts = 0;
+  for (const PartStats& s : stats) ghosts += s.ghost_cells;
+  return cell_part.empty() ? 0.0 : double(ghosts) / double(cell_part.size());
+}
+
+double Partition::imbalance() const {
+  long most = 0;
+  for (const PartStats& s : stats) most = std::max(most, s.owned_cells);
+  return cell_part.empty() ? 1.0 : double(most) * parts / double(cell_part.size());
+}
+
+namespace {
+
+/// Node -> cells (CSR, cells in increasing order).
+void node_cells(const Grid& grid, std::vector<long>& start, std::vector<long>& cells) {
+  const vtkIdType n = grid.num_points(), m = grid.num_cells();
+  const vtkIdType* conn = grid.cells();
+  start.assign(n + 1, 0);
+  for (vtkIdType i = 0; i < 4 * m; ++i) ++start[conn[i] + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  cells.resize(4 * m);
+  std::vector<long> fill(start.begin(), start.end() - 1);
+  for (vtkIdType e = 0; e < m; ++e)
+    for (int c = 0; c < 4; ++c) cells[fill[conn[4 * e + c]]++] = e;
+}
+
+}  // namespace
+
+Partition partition_grid(const Grid& grid, int parts) {
+  BRITTLE_CHECK(parts >= 1, "partition: ", parts, " parts (expected at least 1)");
+  const vtkIdType n = grid.num_points(), m = grid.num_cells();
+  BRITTLE_CHECK(m < (vtkIdType(1) << 29), "partition: ", m,
+                " cells are more than METIS's 32-bit indices take here");
+  Partition p;
+  p.parts = parts;
+  p.cell_part.assign(m, 0);
+  if (parts > 1 && m > 0) {
+    idx_t ne = static_cast<idx_t>(m), nn = static_cast<idx_t>(n), ncommon = 3,
+          nparts = parts, objval = 0;
+    std::vector<idx_t> eptr(m + 1), eind(4 * m), epart(m), npart(n);
+    for (vtkIdType e = 0; e <= m; ++e) eptr[e] = static_cast<idx_t>(4 * e);
+    for (vtkIdType i = 0; i < 4 * m; ++i) eind[i] = static_cast<idx_t>(grid.cells()[i]);
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;        // the same grid, the same partition
+    options[METIS_OPTION_NUMBERING] = 0;
+    const int rc = METIS_PartMeshDual(&ne, &nn, eptr.data(), eind.data(), nullptr, nullptr,
+                                      &ncommon, &nparts, nullptr, options, &objval, epart.data(),
+                                      npart.data());
+    BRITTLE_CHECK(rc == METIS_OK, "partition: METIS failed (code ", rc, ") for ", parts,
+                  " parts of ", m, " cells");
+    for (vtkIdType e = 0; e < m; ++e) p.cell_part[e] = static_cast<int>(epart[e]);
+    p.cut_faces = objval;
+  }
+  std::vector<long> start, cells;
+  node_cells(grid, start, cells);
+  p.node_owner.assign(n, 0);
+  for (vtkIdType k = 0; k < n; ++k)
+    if (start[k + 1] > start[k]) p.node_owner[k] = p.cell_part[cells[start[k]]];
+
+  // Per part: the cells touching an owned node, and the nodes of those cells.
+  p.stats.assign(parts, {});
+  const vtkIdType* conn = grid.cells();
+  std::vector<int> cell_mark(m, -1), node_mark(n, -1);
+  std::vector<char> neighbour(parts, 0);
+  for (vtkIdType k = 0; k < n; ++k) ++p.stats[p.node_owner[k]].owned_nodes;
+  for (vtkIdType e = 0; e < m; ++e) ++p.stats[p.cell_part[e]].owned_cells;
+  for (int r = 0; r < parts; ++r) {
+    PartStats& s = p.stats[r];
+    std::fill(neighbour.begin(), neighbour.end(), 0);
+    for (vtkIdType k = 0; k < n; ++k) {
+      if (p.node_owner[k] != r) continue;
+      for (long i = start[k]; i < start[k + 1]; ++i) {
+        const long e = cells[i];
+        if (cell_mark[e] == r) continue;
+        cell_mark[e] = r;
+        if (p.cell_part[e] != r) ++s.ghost_cells;
+        for (int c = 0; c < 4; ++c) {
+          const vtkIdType q = conn[4 * e + c];
+          if (node_mark[q] == r || p.node_owner[q] == r) continue;
+          node_mark[q] = r;
+          ++s.ghost_nodes;
+          neighbour[p.node_owner[q]] = 1;
+        }
+      }
+    }
+    s.neighbours = static_cast<int>(std::count(neighbour.begin(), neighbour.end(), 1));
+  }
+  return p;
+}
+
+}  // namespace brittle

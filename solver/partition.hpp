@@ -1,0 +1,42 @@
+// Domain decomposition of the tet grid for MPI runs (issue 14, docs/parallel.md): cells split
+// into parts by METIS on the dual graph (cells adjacent through a face), nodes owned by a fixed
+// rule, and the ghost layer each part needs so that every owned node's force (a sum over its
+// cells in global cell order), nodal stress (2.10) and split decision are computed locally.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "grid.hpp"
+
+namespace brittle {
+
+/// What one part (rank) holds.
+struct PartStats {
+  long owned_cells = 0, owned_nodes = 0;
+  long ghost_cells = 0;  ///< cells of other parts touching an owned node (computed redundantly)
+  long ghost_nodes = 0;  ///< nodes of the part's cells owned elsewhere (received every step)
+  int neighbours = 0;    ///< parts it receives ghost nodes from (messages per step)
+};
+
+struct Partition {
+  int parts = 1;
+  std::vector<int> cell_part;   ///< per cell, 0..parts-1
+  std::vector<int> node_owner;  ///< per node: the part of its lowest-numbered cell
+  std::vector<PartStats> stats;
+  long cut_faces = 0;           ///< faces between cells of different parts
+
+  /// Ghost nodes of all parts over all nodes.
+  double ghost_fraction() const;
+  /// Ghost cells of all parts over all cells: the redundant element work.
+  double redundant_fraction() const;
+  /// Largest owned-cell count over the mean: the load imbalance.
+  double imbalance() const;
+};
+
+/// Partitions the grid's cells into `parts` with METIS_PartMeshDual (faces: 3 common nodes;
+/// fixed seed, so the same grid always gives the same partition) and computes each part's
+/// ghost layer. parts = 1 gives everything to part 0. Throws brittle::Error if METIS fails.
+Partition partition_grid(const Grid& grid, int parts);
+
+}  // namespace brittle

@@ -1,0 +1,162 @@
+// MPI groundwork (issue 14, docs/parallel.md): the METIS partition and its ghost layers checked
+// against a brute-force count, and whole runs spread over ranks by mpirun giving the same
+// files as the serial command.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_helpers.hpp"
+#include "fixtures.hpp"
+#include "grid.hpp"
+#include "partition.hpp"
+#include "plate_mesh.hpp"
+
+namespace fs = std::filesystem;
+using brittle_test::contains;
+using brittle_test::quote;
+using brittle_test::read_text;
+using brittle_test::TempDir;
+
+namespace brittle {
+namespace {
+
+/// The CM plate on a 1 mm mesh (about 3,800 tets).
+Grid small_grid(vtkSmartPointer<vtkUnstructuredGrid>& mesh) {
+  Scene scene = testing::plate_scene(0.9, 1e-6);
+  scene.mesh.size = 1e-3;
+  mesh = make_mesh(scene);
+  return Grid(*mesh);
+}
+
+TEST(Partition, OnePartHasNoGhosts) {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;
+  const Grid grid = small_grid(mesh);
+  const Partition p = partition_grid(grid, 1);
+  ASSERT_EQ(p.stats.size(), 1u);
+  EXPECT_EQ(p.stats[0].owned_cells, grid.num_cells());
+  EXPECT_EQ(p.stats[0].owned_nodes, grid.num_points());
+  EXPECT_EQ(p.stats[0].ghost_nodes, 0);
+  EXPECT_EQ(p.stats[0].ghost_cells, 0);
+  EXPECT_EQ(p.cut_faces, 0);
+}
+
+/// Every part's ghost layer, counted the slow way: the cells touching an owned node, the nodes
+/// of those cells; ghosts are the ones another part owns. Also: the owner rule, balance and
+/// determinism.
+TEST(Partition, GhostLayersAreWhatOwnedNodesNeed) {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;
+  const Grid grid = small_grid(mesh);
+  const vtkIdType* conn = grid.cells();
+  for (int parts : {2, 3, 5}) {
+    SCOPED_TRACE(parts);
+    const Partition p = partition_grid(grid, parts);
+    ASSERT_EQ(p.cell_part.size(), static_cast<std::size_t>(grid.num_cells()));
+    EXPECT_EQ(p.cell_part, partition_grid(grid, parts).cell_part);  // same grid, same partition
+    EXPECT_LT(p.imbalance(), 1.05);
+    EXPECT_GT(p.cut_faces, 0);
+    // Owner: the part of the node's lowest-numbered cell.
+    std::vector<vtkIdType> first_cell(grid.num_points(), -1);
+    for (vtkIdType e = grid.num_cells() - 1; e >= 0; --e)
+      for (int c = 0; c < 4; ++c) first_cell[conn[4 * e + c]] = e;
+    for (vtkIdType k = 0; k < grid.num_points(); ++k)
+      ASSERT_EQ(p.node_owner[k], p.cell_part[first_cell[k]]) << k;
+    long total_ghosts = 0;
+    for (int r = 0; r < parts; ++r) {
+      std::set<vtkIdType> cells, nodes;
+      for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+        for (int c = 0; c < 4; ++c)
+          if (p.node_owner[conn[4 * e + c]] == r) cells.insert(e);
+      std::set<int> neighbours;
+      long ghost_cells = 0;
+      for (vtkIdType e : cells) {
+        if (p.cell_part[e] != r) ++ghost_cells;
+        for (int c = 0; c < 4; ++c)
+          if (p.node_owner[conn[4 * e + c]] != r) {
+            nodes.insert(conn[4 * e + c]);
+            neighbours.insert(p.node_owner[conn[4 * e + c]]);
+          }
+      }
+      EXPECT_EQ(p.stats[r].ghost_cells, ghost_cells) << r;
+      EXPECT_EQ(p.stats[r].ghost_nodes, static_cast<long>(nodes.size())) << r;
+      EXPECT_EQ(p.stats[r].neighbours, static_cast<int>(neighbours.size())) << r;
+      EXPECT_GT(p.stats[r].ghost_nodes, 0) << r;
+      total_ghosts += p.stats[r].ghost_nodes;
+    }
+    EXPECT_DOUBLE_EQ(p.ghost_fraction(), double(total_ghosts) / grid.num_points());
+  }
+}
+
+/// mpiexec with the environment Open MPI needs to run as root in CI, oversubscribed.
+std::string mpiexec(int ranks) {
+  return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") +
+         quote(BRITTLE_MPIEXEC) + " --oversubscribe -np " + std::to_string(ranks) + " " +
+         quote(BRITTLE_EXE);
+}
+
+int shell(const std::string& command, const fs::path& log) {
+  const int status = std::system((command + " > " + quote(log.string()) + " 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// The summary without what depends on the machine's speed.
+nlohmann::json without_timings(nlohmann::json j) {
+  for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases"}) j.erase(key);
+  return j;
+}
+
+/// `mpirun -np 1, 2, 3 brittle study` runs the same runs as the serial command: every run's
+/// energies, events and summary (timings aside) are bitwise those of the serial study.
+TEST(Mpi, StudyOverRanksEqualsTheSerialStudy) {
+  TempDir dir;
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  const std::string args = " study mesh " + quote(scenes + "cm.ini") +
+                           " --sizes 2e-3,1e-3 --case straight --case damage=" +
+                           quote(scenes + "damage.ini") + " --set run.end_time=8e-6 --jobs 1";
+  ASSERT_EQ(shell(quote(BRITTLE_EXE) + args + " --out " + quote((dir / "serial").string()),
+                  dir / "serial.log"),
+            0)
+      << read_text(dir / "serial.log");
+  for (int ranks : {1, 2, 3}) {
+    SCOPED_TRACE(ranks);
+    const fs::path out = dir / ("np" + std::to_string(ranks));
+    const fs::path log = dir / ("np" + std::to_string(ranks) + ".log");
+    ASSERT_EQ(shell(mpiexec(ranks) + args + " --out " + quote(out.string()), log), 0)
+        << read_text(log);
+    // One table, from rank 0.
+    const std::string text = read_text(log);
+    EXPECT_TRUE(contains(text, "wrote")) << text;
+    EXPECT_EQ(text.find("wrote"), text.rfind("wrote")) << text;
+    for (const char* run : {"straight/h_2000um", "straight/h_1000um", "damage/h_2000um",
+                            "damage/h_1000um"}) {
+      SCOPED_TRACE(run);
+      for (const char* file : {"energies.csv", "events.csv", "crack_tip.csv", "sensors.csv"})
+        EXPECT_EQ(read_text(out / run / file), read_text(dir / "serial" / run / file)) << file;
+      std::ifstream a(out / run / "summary.json"), b(dir / "serial" / run / "summary.json");
+      EXPECT_EQ(without_timings(nlohmann::json::parse(a)),
+                without_timings(nlohmann::json::parse(b)));
+    }
+  }
+}
+
+TEST(Mpi, OneRunOverSeveralRanksIsRefusedWithOneLine) {
+  TempDir dir;
+  const std::string scene = std::string(BRITTLE_SOURCE_DIR) + "/scenes/cm.ini";
+  const int code = shell(mpiexec(2) + " run " + quote(scene) + " --out " +
+                             quote((dir / "out").string()),
+                         dir / "log");
+  EXPECT_NE(code, 0);
+  EXPECT_TRUE(contains(read_text(dir / "log"), "brittle run under mpirun with 2 ranks"))
+      << read_text(dir / "log");
+  EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+}
+
+}  // namespace
+}  // namespace brittle
