@@ -145,7 +145,7 @@ std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
 int render_command(const std::vector<std::string>& args) {
   const char* usage =
       "usage: brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T1,T2,...] "
-      "[--field sigma1|damage ...] [--set render.key=value ...] [--out DIR] [--panel FILE.png "
+      "[--field sigma1|damage|crack ...] [--set render.key=value ...] [--out DIR] [--panel FILE.png "
       "[--title T]]";
   po::options_description opts("brittle render options");
   std::vector<std::string> inputs, sets, field_options;
@@ -154,7 +154,7 @@ int render_command(const std::vector<std::string>& args) {
       "times", po::value(&times_text),
       "times in s, comma separated (default: render.times, else every stored frame)")(
       "field", po::value(&field_options)->composing(),
-      "sigma1 and/or damage, repeatable or comma separated (default: render.fields)")(
+      "sigma1, damage and/or crack, repeatable or comma separated (default: render.fields)")(
       "set", po::value(&sets)->composing(), "override one [render] key: render.key=value")(
       "out", po::value(&out), "where the PNGs go (default: render.directory, else RUN_DIR/render)")(
       "panel", po::value(&panel_path),
@@ -208,7 +208,10 @@ int render_command(const std::vector<std::string>& args) {
     std::vector<std::vector<vtkImageData*>> raw(fields.size());
     std::vector<std::string> rows, columns;
     for (std::size_t i = 0; i < fields.size(); ++i) {
-      rows.push_back(fields.size() == 1 ? "" : fields[i] == Field::sigma1 ? "sigma1" : "Omega");
+      rows.push_back(fields.size() == 1          ? ""
+                     : fields[i] == Field::sigma1 ? "sigma1"
+                     : fields[i] == Field::damage ? "Omega"
+                                                  : "crack");
       for (auto& image : cells[i]) raw[i].push_back(image);
     }
     for (const auto& pick : picks) columns.push_back(error_message(pick.first * 1e6, " us"));

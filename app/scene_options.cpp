@@ -378,11 +378,12 @@ const std::vector<Key>& scene_keys() {
                           [](Scene& s) -> std::vector<double>& { return s.render.times; }));
     k.push_back(typed<std::string>(
         "render.fields", "", "which fields to render, comma/space separated",
-        "sigma1 (sigma1/sigma_c) and/or damage (Omega)", std::string("sigma1, damage"),
-        "sigma1, damage", [](const std::string& v, const Source&, Scene& scene) {
+        "sigma1 (sigma1/sigma_c), damage (Omega) and/or crack (cracked faces and tips)",
+        std::string("sigma1, damage"), "sigma1, damage",
+        [](const std::string& v, const Source&, Scene& scene) {
           std::vector<std::string> fields = list_words(v);
           for (const std::string& f : fields)
-            if (f != "sigma1" && f != "damage") return Verdict::out_of_range;
+            if (f != "sigma1" && f != "damage" && f != "crack") return Verdict::out_of_range;
           if (fields.empty()) return Verdict::out_of_range;
           scene.render.fields = std::move(fields);
           return Verdict::ok;

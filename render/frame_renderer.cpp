@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <cstdio>
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetSurfaceFilter.h>
@@ -18,6 +20,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
@@ -28,6 +31,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "crack_surface.hpp"
 #include "error.hpp"
 #include "grid.hpp"
 #include "offscreen_window.hpp"
@@ -35,12 +39,22 @@
 namespace brittle::render {
 
 Field parse_field(const std::string& word) {
-  if (word == "sigma1") return Field::sigma1;
-  if (word == "damage") return Field::damage;
-  throw Error(error_message("render: unknown field '", word, "' (expected sigma1 or damage)"));
+  std::string lower = word;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (Field f : {Field::sigma1, Field::damage, Field::crack})
+    if (lower == field_word(f)) return f;
+  throw Error(error_message("render: unknown field '", word,
+                            "' (expected sigma1, damage or crack)"));
 }
 
-const char* field_word(Field f) { return f == Field::sigma1 ? "sigma1" : "damage"; }
+const char* field_word(Field f) {
+  switch (f) {
+    case Field::sigma1: return "sigma1";
+    case Field::damage: return "damage";
+    case Field::crack: return "crack";
+  }
+  return "?";
+}
 
 std::string frame_file_name(Field field, double time) {
   char buf[64];
@@ -50,6 +64,7 @@ std::string frame_file_name(Field field, double time) {
 
 namespace {
 
+/// The cell array a colour frame shows (crack frames show none).
 const char* array_name(Field f) {
   return f == Field::sigma1 ? field::sigma1_over_sigmac : field::damage;
 }
@@ -100,10 +115,42 @@ struct FrameRenderer::Pipeline {
   vtkNew<vtkTextActor> label;
   vtkNew<vtkTextActor> name;  ///< the field's name, left of the colour bar
   vtkNew<vtkWindowToImageFilter> grab;
+  // Crack frames: cracked faces and tips drawn in a second layer, over the plate's surface
+  // (their edges on the faces z = 0, T coincide with it), with the same camera.
+  vtkNew<vtkRenderer> overlay;
+  vtkNew<vtkPolyData> crack_lines, crack_tips;
+  vtkNew<vtkPolyDataMapper> lines_mapper, tips_mapper;
+  vtkNew<vtkActor> lines_actor, tips_actor;
+  vtkNew<vtkTextActor> legend;
 
   Pipeline(int width, int height) : window(width, height) {
     window.window()->SetMultiSamples(0);  // exact, reproducible pixels
+    window.window()->SetNumberOfLayers(2);
     window.window()->AddRenderer(renderer);
+    window.window()->AddRenderer(overlay);
+    overlay->SetLayer(1);
+    overlay->InteractiveOff();
+    overlay->SetActiveCamera(renderer->GetActiveCamera());
+    overlay->AddActor(lines_actor);
+    overlay->AddActor(tips_actor);
+    lines_mapper->SetInputData(crack_lines);
+    tips_mapper->SetInputData(crack_tips);
+    lines_mapper->ScalarVisibilityOff();
+    tips_mapper->ScalarVisibilityOff();
+    lines_actor->SetMapper(lines_mapper);
+    tips_actor->SetMapper(tips_mapper);
+    for (vtkActor* a : {lines_actor.Get(), tips_actor.Get()}) {
+      a->GetProperty()->SetAmbient(1.0);
+      a->GetProperty()->SetDiffuse(0.0);
+      a->GetProperty()->SetSpecular(0.0);
+      a->GetProperty()->LightingOff();
+    }
+    lines_actor->GetProperty()->SetColor(0.05, 0.05, 0.05);
+    lines_actor->GetProperty()->SetLineWidth(std::max(2.0, std::round(height / 300.0)));
+    tips_actor->GetProperty()->SetColor(0.85, 0.05, 0.05);
+    tips_actor->GetProperty()->SetPointSize(std::max(7.0, std::round(height / 45.0)));
+    tips_actor->GetProperty()->RenderPointsAsSpheresOn();
+    renderer->AddViewProp(legend);
     renderer->SetBackground(1, 1, 1);
     renderer->AddActor(actor);
     renderer->AddViewProp(bar);
@@ -162,11 +209,50 @@ struct FrameRenderer::Pipeline {
     n->SetJustificationToCentered();
     n->SetVerticalJustificationToCentered();
 
+    legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    legend->GetPositionCoordinate()->SetValue(0.5, 0.1);
+    vtkTextProperty* g = legend->GetTextProperty();
+    g->ShallowCopy(t);
+    g->SetFontSize(static_cast<int>(std::lround(font / 22)));
+    g->SetJustificationToCentered();
+    g->SetVerticalJustificationToCentered();
+
     grab->SetInput(window.window());
     grab->ReadFrontBufferOff();
     grab->SetInputBufferTypeToRGB();
   }
 };
+
+/// Crack frames: every edge of both sides of every cracked face as a line, and a dot at each
+/// crack tip of the solver's fronts, at the shown (magnified) positions; the legend counts
+/// them (crack_surface.hpp).
+static void draw_crack(FrameRenderer::Pipeline& p, vtkUnstructuredGrid& grid) {
+  const CrackSurface crack = find_crack_surface(grid);
+  vtkPoints* shown = p.shown->GetPoints();
+  vtkNew<vtkCellArray> lines;
+  for (const auto& face : crack.faces)
+    for (int i = 0; i < 3; ++i) {
+      const vtkIdType edge[2] = {face[i], face[(i + 1) % 3]};
+      lines->InsertNextCell(2, edge);
+    }
+  p.crack_lines->SetPoints(shown);
+  p.crack_lines->SetLines(lines);
+  vtkNew<vtkPoints> tips;
+  vtkNew<vtkCellArray> vertices;
+  const auto tip_points = shown_tips(grid, *shown);
+  for (const auto& t : tip_points) {
+    const vtkIdType id = tips->InsertNextPoint(t.data());
+    vertices->InsertNextCell(1, &id);
+  }
+  p.crack_tips->SetPoints(tips);
+  p.crack_tips->SetVerts(vertices);
+  p.crack_lines->Modified();
+  p.crack_tips->Modified();
+  char text[96];
+  std::snprintf(text, sizeof text, "crack faces: %ld    tips: %zu", crack.face_count,
+                tip_points.size());
+  p.legend->SetInput(text);
+}
 
 FrameRenderer::FrameRenderer(const RenderParams& params)
     : params_(params), pipeline_(std::make_unique<Pipeline>(params.width, params.height)) {}
@@ -176,9 +262,10 @@ FrameRenderer::~FrameRenderer() = default;
 vtkSmartPointer<vtkImageData> FrameRenderer::render(vtkUnstructuredGrid& grid, Field field) {
   Pipeline& p = *pipeline_;
   const RenderParams& r = params_;
+  const bool crack_frame = field == Field::crack;
   const char* array = array_name(field);
-  BRITTLE_CHECK(grid.GetCellData()->GetArray(array), "render: the grid has no cell data '", array,
-                "'");
+  BRITTLE_CHECK(crack_frame || grid.GetCellData()->GetArray(array),
+                "render: the grid has no cell data '", array, "'");
 
   // Magnified deformed configuration x_m = X + m (x - X); m = 1 shows the grid as it is.
   p.shown->ShallowCopy(&grid);
@@ -206,6 +293,16 @@ vtkSmartPointer<vtkImageData> FrameRenderer::render(vtkUnstructuredGrid& grid, F
   p.bar->SetNumberOfLabels(nice_label_count(hi - lo));
   p.mapper->SelectColorArray(array);
   p.name->SetInput(field_title(field));
+  p.mapper->SetScalarVisibility(!crack_frame);
+  p.bar->SetVisibility(!crack_frame);
+  p.name->SetVisibility(!crack_frame);
+  p.legend->SetVisibility(crack_frame);
+  p.lines_actor->SetVisibility(crack_frame);
+  p.tips_actor->SetVisibility(crack_frame);
+  if (crack_frame) {
+    p.actor->GetProperty()->SetColor(0.82, 0.82, 0.82);
+    draw_crack(p, grid);
+  }
 
   // Face-on along -z, fixed by the reference (undeformed) bounds, so every frame of a run and
   // its re-rendering share one camera. The plate fills 94 % of the width or the band between

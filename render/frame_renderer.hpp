@@ -18,11 +18,14 @@ namespace brittle::render {
 /// Field data the simulation stores on the live grid for the labels: the load sigma/sigma_c.
 inline constexpr const char* load_array = "sigma_over_sigmac";
 
-enum class Field { sigma1, damage };
+/// What a frame shows: sigma1/sigma_c or Omega as cell colours, or the crack itself (cracked
+/// faces as dark lines on a grey plate, crack tips as red dots; docs/rendering.md).
+enum class Field { sigma1, damage, crack };
 
-/// "sigma1" or "damage" (the words of render.fields and --field); throws brittle::Error otherwise.
+/// "sigma1", "damage" or "crack" (the words of render.fields and --field, any case); throws
+/// brittle::Error otherwise.
 Field parse_field(const std::string& word);
-/// The word for file names and options: "sigma1", "damage".
+/// The word for file names and options: "sigma1", "damage", "crack".
 const char* field_word(Field f);
 
 /// Renders frames of grids (live or read from VTU) with the style of the scene's [render] keys.
@@ -39,8 +42,9 @@ class FrameRenderer {
 
   const RenderParams& params() const { return params_; }
 
+  struct Pipeline;  ///< the VTK objects, kept between frames (frame_renderer.cpp)
+
  private:
-  struct Pipeline;
   RenderParams params_;
   std::unique_ptr<Pipeline> pipeline_;
 };

@@ -23,6 +23,9 @@ inline constexpr const char* damage = "damage";                          // Omeg
 inline constexpr const char* sigma1_over_sigmac = "sigma1_over_sigmac";  // cell, 1
 inline constexpr const char* stress = "stress";  // T_el, cell, 6 (xx yy zz xy yz xz)
 inline constexpr const char* time = "TimeValue";  // field data, ParaView's name
+/// Field data, once a node has split: the reference (x, y) of every crack tip that has not
+/// branched (CrackFronts), 2 components per tip, for crack frames [m].
+inline constexpr const char* crack_tips = "crack_tips";
 }  // namespace field
 
 /// Owns the vtkUnstructuredGrid and hands out raw contiguous views of its arrays for the

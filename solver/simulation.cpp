@@ -224,6 +224,24 @@ void Simulation::update_output_fields() {
   }
   vtkDoubleArray::SafeDownCast(grid_.vtk()->GetFieldData()->GetArray(field::time))
       ->SetValue(0, time_);
+  // The tips for crack frames: those that have not branched, once anything has split (a seed
+  // that has not moved yet is the end of a crack that has only opened at the notch).
+  std::vector<double> tips;
+  for (const TipTrack& t : fronts_.tips())
+    if (t.active && fronts_.splits() > 0) {
+      const TipSample head = fronts_.head(t.id);
+      tips.insert(tips.end(), {head.x, head.y});
+    }
+  vtkFieldData* fd = grid_.vtk()->GetFieldData();
+  if (!tips.empty() || fd->GetArray(field::crack_tips)) {
+    auto array = vtkSmartPointer<vtkDoubleArray>::New();
+    array->SetName(field::crack_tips);
+    array->SetNumberOfComponents(2);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(tips.size() / 2));
+    std::copy(tips.begin(), tips.end(), array->GetPointer(0));
+    fd->RemoveArray(field::crack_tips);
+    fd->AddArray(array);
+  }
   grid_.mark_modified();
 }
 

@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <array>
 #include <set>
 #include <sstream>
 #include <string>
@@ -20,6 +22,8 @@
 #include <vtkImageData.h>
 
 #include "error.hpp"
+#include "fracture.hpp"
+#include "crack_surface.hpp"
 #include "frame_renderer.hpp"
 #include "image_tools.hpp"
 #include "plate_mesh.hpp"
@@ -150,6 +154,90 @@ TEST_F(Render, DamageMatchesBaseline) {
   expect_matches_baseline(*image, "damage_10us");
 }
 
+TEST_F(Render, CrackMatchesBaseline) {
+  auto image = render_small(Field::crack, {"run.end_time=20e-6"});
+  expect_matches_baseline(*image, "crack_20us");
+}
+
+namespace {
+
+/// Pixels of a crack frame: dark (crack lines; the text is outside `rows`) and red (tips).
+struct CrackPixels {
+  long dark = 0, red = 0;
+};
+
+CrackPixels count_crack_pixels(vtkImageData& image, int row_lo, int row_hi) {
+  int dims[3];
+  image.GetDimensions(dims);
+  const auto* px = static_cast<const unsigned char*>(image.GetScalarPointer());
+  CrackPixels n;
+  for (int row = row_lo; row < row_hi; ++row)  // rows counted from the top
+    for (int col = 0; col < dims[0]; ++col) {
+      const unsigned char* p = px + 3 * ((dims[1] - 1 - row) * dims[0] + col);
+      if (p[0] < 60 && p[1] < 60 && p[2] < 60) ++n.dark;
+      if (p[0] > 170 && p[1] < 70 && p[2] < 70) ++n.red;
+    }
+  return n;
+}
+
+}  // namespace
+
+/// A cracked run's frame has dark crack lines and a red tip in the band of y = 0 and neither
+/// above or below it; an uncracked run's frame has neither anywhere on the plate.
+TEST_F(Render, CrackFrameShowsTheCrackAndItsTip) {
+  // 400 x 300: the plate's y = 0 is at about row 130 from the top (the band 12 %..75 %).
+  auto cracked = render_small(Field::crack, {"run.end_time=20e-6"});
+  const CrackPixels band = count_crack_pixels(*cracked, 115, 145);
+  const CrackPixels above = count_crack_pixels(*cracked, 45, 100);
+  const CrackPixels below = count_crack_pixels(*cracked, 160, 215);
+  EXPECT_GT(band.dark, 50);
+  EXPECT_GT(band.red, 10);
+  EXPECT_EQ(above.dark + above.red + below.dark + below.red, 0);
+  auto intact = render_small(Field::crack, {"run.end_time=20e-6", "loading.sigma_over_sigmac=0.2"});
+  const CrackPixels none = count_crack_pixels(*intact, 45, 215);
+  EXPECT_EQ(none.dark, 0);
+  EXPECT_EQ(none.red, 0);
+}
+
+/// Crack faces found from the reference positions of a hand-made straight cut: every face of
+/// the plane y = 0 with a split node, both sides, and nothing else.
+TEST(CrackSurface, StraightCutGivesThePlanesFacesTwice) {
+  brittle::Scene scene = small_scene({"mesh.size=1e-3"});
+  auto mesh = brittle::make_mesh(scene);
+  brittle::Simulation sim(scene, *mesh);
+  EXPECT_EQ(brittle::render::find_crack_surface(*sim.grid().vtk()).face_count, 0);
+  const double a = scene.geometry.notch_depth, c = 12e-3;
+  // The plane's faces before the cut: triangles of the tets with three corners on y = 0.
+  const brittle::Grid& grid = sim.grid();
+  auto on_plane = [&](vtkIdType k) { return std::abs(grid.X()[3 * k + 1]) < 1e-12; };
+  auto cut = [&](vtkIdType k) { return on_plane(k) && grid.X()[3 * k] >= a - 1e-12 && grid.X()[3 * k] <= c; };
+  std::set<std::array<vtkIdType, 3>> plane_faces;
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<vtkIdType, 3> f;
+      int n = 0;
+      for (int i = 0; i < 4; ++i)
+        if (i != skip) f[n++] = grid.cells()[4 * e + i];
+      std::sort(f.begin(), f.end());
+      if (on_plane(f[0]) && on_plane(f[1]) && on_plane(f[2]) && (cut(f[0]) || cut(f[1]) || cut(f[2])))
+        plane_faces.insert(f);
+    }
+  ASSERT_GT(plane_faces.size(), 10u);
+  std::vector<brittle::SplitCandidate> nodes;
+  for (vtkIdType k = 0; k < grid.num_points(); ++k)
+    if (cut(k)) nodes.push_back({k, 1.0, brittle::Vec3::UnitY()});
+  for (const auto& n : nodes)
+    sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {n});
+  const auto crack = brittle::render::find_crack_surface(*sim.grid().vtk());
+  EXPECT_EQ(crack.face_count, static_cast<long>(plane_faces.size()));
+  ASSERT_EQ(crack.faces.size(), 2 * plane_faces.size());
+  for (const auto& face : crack.faces)
+    for (vtkIdType k : face) {
+      EXPECT_NEAR(sim.grid().X()[3 * k + 1], 0.0, 1e-12);
+      EXPECT_LE(sim.grid().X()[3 * k], c + 2 * scene.mesh.size);
+    }
+}
+
 TEST_F(Render, ChangedColourRangeFailsComparison) {
   if (regenerating()) GTEST_SKIP();
   auto image = render_small(Field::sigma1, {"render.sigma1_max=1.0"});
@@ -188,20 +276,22 @@ TEST_F(Render, StoredSeriesGivesTheFrameOfTheRun) {
       " --set mesh.size=2e-3 --set run.end_time=10e-6 --set render.width=400"
       " --set render.height=300";
   ASSERT_EQ(run(exe + " run " + scenes + "cm.ini " + scenes + "damage.ini" + keys +
-                    " --set output.frame_interval=2e-6 --set render.times=5e-6,10e-6 --out '" +
+                    " --set output.frame_interval=2e-6 --set render.times=5e-6,10e-6"
+                    " --set render.fields=sigma1,damage,crack --out '" +
                     (dir / "run").string() + "'",
                 dir / "run.log"),
             0)
       << read(dir / "run.log");
   ASSERT_EQ(run(exe + " render '" + (dir / "run" / "run.pvd").string() +
                     "' --set render.width=400 --set render.height=300 --times 5e-6,10e-6 "
-                    "--field sigma1,damage --out '" + (dir / "again").string() + "'",
+                    "--field sigma1,damage,CRACK --out '" + (dir / "again").string() + "'",
                 dir / "render.log"),
             0)
       << read(dir / "render.log");
   int compared = 0;
-  for (const char* name : {"sigma1_005.000us.png", "damage_005.000us.png",
-                           "sigma1_010.000us.png", "damage_010.000us.png"}) {
+  // Crack frames too: the tips travel through the VTU as field data (crack_tips).
+  for (const char* name : {"sigma1_005.000us.png", "damage_005.000us.png", "crack_005.000us.png",
+                           "sigma1_010.000us.png", "damage_010.000us.png", "crack_010.000us.png"}) {
     SCOPED_TRACE(name);
     auto during = brittle::render::read_png((dir / "run" / "render" / name).string());
     auto after = brittle::render::read_png((dir / "again" / name).string());
@@ -211,7 +301,7 @@ TEST_F(Render, StoredSeriesGivesTheFrameOfTheRun) {
     EXPECT_EQ(c.error, 0.0) << "same data, same renderer: expected identical pixels";
     ++compared;
   }
-  EXPECT_EQ(compared, 4);
+  EXPECT_EQ(compared, 6);
 }
 
 TEST_F(Render, FigureCommandWritesTheFourPanels) {
