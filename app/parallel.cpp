@@ -3,16 +3,23 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <sstream>
 
 #include <boost/program_options.hpp>
+#include <vtkCellData.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
 
 #include "command_line.hpp"
 #include "error.hpp"
 #include "grid.hpp"
 #include "lists.hpp"
+#include "output.hpp"
 #include "partition.hpp"
 #include "plate_mesh.hpp"
 #include "scene_options.hpp"
@@ -21,6 +28,25 @@ namespace brittle {
 namespace {
 
 bool g_mpi = false;  ///< MPI_Init was called by the MpiSession
+
+/// The grid with cell data "rank" (the cell's part) and point data "owner" (the node's).
+void write_partition_vtu(const Grid& grid, const Partition& p, const std::string& path) {
+  auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  copy->ShallowCopy(grid.vtk());
+  auto rank = vtkSmartPointer<vtkIntArray>::New();
+  rank->SetName("rank");
+  rank->SetNumberOfTuples(grid.num_cells());
+  std::copy(p.cell_part.begin(), p.cell_part.end(), rank->GetPointer(0));
+  auto owner = vtkSmartPointer<vtkIntArray>::New();
+  owner->SetName("owner");
+  owner->SetNumberOfTuples(grid.num_points());
+  std::copy(p.node_owner.begin(), p.node_owner.end(), owner->GetPointer(0));
+  copy->GetCellData()->Initialize();
+  copy->GetPointData()->Initialize();
+  copy->GetCellData()->AddArray(rank);
+  copy->GetPointData()->AddArray(owner);
+  write_vtu_file(*copy, path);
+}
 
 }  // namespace
 
@@ -67,18 +93,20 @@ void mpi_max(std::vector<int>& values) {
 int partition_command(const std::vector<std::string>& args) {
   namespace po = boost::program_options;
   std::vector<std::string> files, sets;
-  std::string ranks = "2,4,8";
+  std::string ranks = "2,4,8", out;
   po::options_description opts("brittle partition options");
   opts.add_options()("help,h", "show this help")(
       "ranks", po::value(&ranks)->default_value("2,4,8"), "rank counts, comma separated")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
+      "out", po::value(&out),
+      "also write DIR/partition_<ranks>.vtu: cell data rank, point data owner (for ParaView)")(
       "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
   auto vm = parse_command_line(args, opts, "scene");
   if (vm.count("help")) {
     std::ostringstream text;
     text << opts;
-    std::printf("usage: brittle partition SCENE.ini [MORE.ini ...] [--ranks 2,4,8] [--set k=v ...]"
-                "\n%s", text.str().c_str());
+    std::printf("usage: brittle partition SCENE.ini [MORE.ini ...] [--ranks 2,4,8] [--set k=v ...] "
+                "[--out DIR]\n%s", text.str().c_str());
     return 0;
   }
   po::notify(vm);
@@ -93,6 +121,7 @@ int partition_command(const std::vector<std::string>& args) {
   }
   BRITTLE_CHECK(!counts.empty(), "--ranks '", ranks, "': no rank count given");
   const Scene scene = load_scene(files, sets);
+  if (!out.empty()) std::filesystem::create_directories(out);
   auto mesh = make_mesh(scene);
   Grid grid(*mesh);
   std::printf("%lld tets, %lld nodes\n", static_cast<long long>(grid.num_cells()),
@@ -114,7 +143,9 @@ int partition_command(const std::vector<std::string>& args) {
     std::printf("%6d %10.3f %9ld %11.2f%% %11.2f%% %13.2f%% %12ld %11d %16ld\n", parts,
                 p.imbalance(), p.cut_faces, 100 * p.ghost_fraction(), 100 * worst_ratio,
                 100 * p.redundant_fraction(), most_ghosts, most_neighbours, 48 * most_ghosts);
+    if (!out.empty()) write_partition_vtu(grid, p, out + "/partition_" + std::to_string(parts) + ".vtu");
   }
+  if (!out.empty()) std::printf("wrote %s/partition_*.vtu\n", out.c_str());
   return 0;
 }
 

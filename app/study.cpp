@@ -14,9 +14,14 @@
 #include <tuple>
 
 #include <boost/program_options.hpp>
+#include <vtkImageData.h>
+#include <vtkUnstructuredGrid.h>
 #include <nlohmann/json.hpp>
 
 #include "chart.hpp"
+#include "frame_renderer.hpp"
+#include "image_tools.hpp"
+#include "isolated_read.hpp"
 #include "child_runs.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
@@ -345,6 +350,39 @@ void write_study_charts(const std::string& out, const std::vector<StudyCase>& ca
               Corner::bottom_right);
 }
 
+/// With --frames: study_cracks.png, a crack frame (docs/rendering.md) of every run at its last
+/// stored time, a row per case and a column per size, in the run's own render settings.
+void write_crack_panel(const std::string& out, const std::vector<StudyCase>& cases,
+                       const std::vector<double>& sizes, const std::vector<PlannedRun>& plan) {
+  RenderParams style = plan.front().scene.render;
+  style.width = 480, style.height = 320;
+  render::FrameRenderer renderer(style);
+  std::vector<std::vector<vtkSmartPointer<vtkImageData>>> images(cases.size());
+  std::vector<std::vector<vtkImageData*>> cells(cases.size());
+  double last_time = 0;
+  for (const PlannedRun& run : plan) {
+    vtkSmartPointer<vtkImageData> image;
+    try {
+      const auto series = read_pvd(run.child.directory + "/run.pvd");
+      BRITTLE_CHECK(!series.empty(), "no frames");
+      auto grid = read_vtu_isolated(series.back().file, "study: frame");
+      image = renderer.render(*grid, render::Field::crack);
+      last_time = std::max(last_time, series.back().time);
+    } catch (const Error&) {  // a failed run: its cell says so, the others still show
+      image = render::text_image("no frame", style.width, style.height, style.height / 10);
+    }
+    images[run.case_index].push_back(image);
+    cells[run.case_index].push_back(image);
+  }
+  std::vector<std::string> rows, columns;
+  for (const StudyCase& c : cases) rows.push_back(c.label);
+  for (double h : sizes) columns.push_back(error_message("h = ", h * 1e6, " um"));
+  char title[96];
+  std::snprintf(title, sizeof title, "Cracks at the last frame (%.1f us) against the element size",
+                last_time * 1e6);
+  render::write_png(*render::panel(cells, rows, columns, title), out + "/study_cracks.png");
+}
+
 }  // namespace
 
 std::vector<double> parse_sizes(const std::string& text) {
@@ -446,6 +484,7 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
   write_study_csv(o.out + "/study.csv", rows);
   write_study_json(o.out + "/study.json", o, cases, rows, exponents);
   write_study_charts(o.out, cases, rows);
+  if (o.frames) write_crack_panel(o.out, cases, o.sizes, plan);
   return rows;
 }
 
@@ -468,7 +507,8 @@ int study_command(const std::vector<std::string>& args) {
       "layers", po::value(&layers)->default_value("auto"),
       "auto: max(1, round(T / h)) element layers through the thickness; scene: mesh.layers")(
       "jobs", po::value(&o.jobs)->default_value(0), "runs at once (0 = number of cores)")(
-      "frames", po::bool_switch(&o.frames), "keep every run's VTU frames (for brittle render)")(
+      "frames", po::bool_switch(&o.frames),
+      "keep every run's VTU frames (for brittle render) and draw study_cracks.png")(
       "reuse", po::bool_switch(&o.reuse),
       "do not re-run a run whose directory holds a completed run of the same scene and keys "
       "(extend a study by sizes or cases)")(

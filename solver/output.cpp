@@ -157,6 +157,14 @@ void write_xml(vtkXMLWriter* writer, vtkDataObject* data, const std::string& pat
   write_file_atomically(path, writer->GetOutputString());
 }
 
+}  // namespace
+
+void write_vtu_file(vtkUnstructuredGrid& grid, const std::string& path) {
+  write_xml(vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New(), &grid, path);
+}
+
+namespace {
+
 /// The cohesive links as line cells between their current end points.
 vtkSmartPointer<vtkPolyData> link_lines(const Simulation& sim) {
   const auto& links = sim.fracture().links();

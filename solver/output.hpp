@@ -14,6 +14,8 @@
 
 #include "simulation.hpp"
 
+class vtkUnstructuredGrid;
+
 namespace brittle {
 
 /// A .pvd collection that is rewritten whole after every added file.
@@ -129,6 +131,9 @@ std::vector<PvdEntry> read_pvd(const std::string& path);
 /// failure the temporary file is removed, `path` keeps what it held, and brittle::Error names
 /// `path` and the operating system's reason ("No space left on device").
 void write_file_atomically(const std::string& path, const std::string& text);
+
+/// Writes a grid as a VTU file (binary, appended, zlib) through write_file_atomically.
+void write_vtu_file(vtkUnstructuredGrid& grid, const std::string& path);
 
 /// The standard set for a run, in scene.output.directory.
 class OutputWriters {

@@ -185,7 +185,7 @@ struct OutputParams {
 
 /// PNG frames of the live grid, rendered off-screen by render/ (docs/rendering.md).
 struct RenderParams {
-  /// Which fields to render: sigma1 (sigma1/sigma_c) and/or damage (Omega).
+  /// Which fields to render: sigma1 (sigma1/sigma_c), damage (Omega) and/or crack.
   static constexpr const char* default_fields[] = {"sigma1", "damage"};
   std::vector<double> times;  ///< render during the run at these times [s] (empty = none)
   std::vector<std::string> fields = std::vector<std::string>(default_fields, default_fields + 2);

@@ -161,6 +161,19 @@ TEST(Study, RunsOnTwoTinyMeshes) {
   EXPECT_EQ(read_json(out / "study.json")["rows"].size(), 6u);
 }
 
+/// --frames keeps the VTU series and lays the last crack frame of every run out in one panel.
+TEST(Study, FramesGiveACrackPanel) {
+  TempDir dir;
+  const fs::path out = dir / "study";
+  const auto r = run_brittle(dir, {"study", "mesh", kScenes + "cm.ini", "--sizes", "2e-3,1e-3",
+                                   "--case", "straight", "--set", "run.end_time=10e-6",
+                                   "--frames", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_TRUE(fs::exists(out / "straight" / "h_1000um" / "run.pvd"));
+  ASSERT_TRUE(fs::exists(out / "study_cracks.png"));
+  EXPECT_GT(fs::file_size(out / "study_cracks.png"), 5000u);
+}
+
 TEST(Study, ABadSceneIsRefusedBeforeAnyRun) {
   TempDir dir;
   const fs::path out = dir / "study";
