@@ -2,6 +2,7 @@
 // (vtkImageDifference).
 #include "image_tools.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -128,7 +129,11 @@ vtkSmartPointer<vtkImageData> panel(const std::vector<std::vector<vtkImageData*>
     }
   }
   const int font = std::max(12, h / 14);
-  const int label_w = std::max(60, w / 5), header_h = font * 2, title_h = font * 5 / 2;
+  // Row titles as wide as the longest needs (about 0.62 em per character of the bold font).
+  std::size_t longest = 0;
+  for (const std::string& r : row_titles) longest = std::max(longest, r.size());
+  const int label_w = std::max({60, w / 5, static_cast<int>(longest * font * 0.62) + font});
+  const int header_h = font * 2, title_h = font * 5 / 2;
 
   std::vector<vtkSmartPointer<vtkImageData>> keep;  // owns the strips until appended
   std::vector<vtkSmartPointer<vtkImageData>> rows;
