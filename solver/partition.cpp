@@ -2,6 +2,9 @@
 #include "partition.hpp"
 
 #include <metis.h>
+#include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkPoints.h>
 
 #include <algorithm>
 #include <numeric>
@@ -106,6 +109,46 @@ Partition partition_grid(const Grid& grid, int parts) {
     s.neighbours = static_cast<int>(std::count(neighbour.begin(), neighbour.end(), 1));
   }
   return p;
+}
+
+LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
+  BRITTLE_CHECK(rank >= 0 && rank < partition.parts, "partition: rank ", rank,
+                " is not a part (expected 0 to ", partition.parts - 1, ")");
+  const vtkIdType n = grid.num_points(), m = grid.num_cells();
+  const vtkIdType* conn = grid.cells();
+  // Cells touching an owned node, then their nodes; both in global order.
+  std::vector<char> cell_in(m, 0), node_in(n, 0);
+  for (vtkIdType e = 0; e < m; ++e)
+    for (int c = 0; c < 4; ++c)
+      if (partition.node_owner[conn[4 * e + c]] == rank) cell_in[e] = 1;
+  LocalPart part;
+  for (vtkIdType e = 0; e < m; ++e)
+    if (cell_in[e]) {
+      part.global_cell.push_back(e);
+      for (int c = 0; c < 4; ++c) node_in[conn[4 * e + c]] = 1;
+    }
+  std::vector<vtkIdType> local(n, -1);
+  for (vtkIdType k = 0; k < n; ++k)
+    if (node_in[k]) {
+      local[k] = static_cast<vtkIdType>(part.global_node.size());
+      part.global_node.push_back(k);
+      part.owned.push_back(partition.node_owner[k] == rank);
+    }
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(part.global_node.size()));
+  for (std::size_t i = 0; i < part.global_node.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), grid.X() + 3 * part.global_node[i]);
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  for (vtkIdType e : part.global_cell) {
+    const vtkIdType ids[4] = {local[conn[4 * e]], local[conn[4 * e + 1]], local[conn[4 * e + 2]],
+                              local[conn[4 * e + 3]]};
+    cells->InsertNextCell(4, ids);
+  }
+  part.mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  part.mesh->SetPoints(points);
+  part.mesh->SetCells(VTK_TETRA, cells);
+  return part;
 }
 
 }  // namespace brittle

@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <vector>
 
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
 #include "grid.hpp"
 
 namespace brittle {
@@ -33,6 +36,20 @@ struct Partition {
   /// Largest owned-cell count over the mean: the load imbalance.
   double imbalance() const;
 };
+
+/// What one rank holds of the grid: its owned cells and the ghost cells that touch its owned
+/// nodes, in global cell order, and the nodes of those cells, in global node order, as a mesh
+/// of its own (reference positions). With this layer an owned node's force is the same sum, in
+/// the same order, as in the whole grid (docs/parallel.md).
+struct LocalPart {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;  ///< local cells and nodes, reference positions
+  std::vector<vtkIdType> global_cell;         ///< local cell -> global cell (increasing)
+  std::vector<vtkIdType> global_node;         ///< local node -> global node (increasing)
+  std::vector<char> owned;                    ///< per local node: owned by this rank
+};
+
+/// The part `rank` of `partition` (grid: the whole grid, its reference positions X).
+LocalPart extract_part(const Grid& grid, const Partition& partition, int rank);
 
 /// Partitions the grid's cells into `parts` with METIS_PartMeshDual (faces: 3 common nodes;
 /// fixed seed, so the same grid always gives the same partition) and computes each part's

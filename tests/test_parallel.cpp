@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 
 #include "cli_helpers.hpp"
 #include "fixtures.hpp"
+#include "element_forces.hpp"
 #include "grid.hpp"
 #include "partition.hpp"
 #include "plate_mesh.hpp"
@@ -91,6 +93,60 @@ TEST(Partition, GhostLayersAreWhatOwnedNodesNeed) {
       total_ghosts += p.stats[r].ghost_nodes;
     }
     EXPECT_DOUBLE_EQ(p.ghost_fraction(), double(total_ghosts) / grid.num_points());
+  }
+}
+
+/// The claim the decomposed run rests on (docs/parallel.md): a rank that holds its owned cells
+/// plus the ghost cells touching its owned nodes, in global order, computes every owned node's
+/// force and mass with the same bits as the whole grid, and every cell's stress too.
+TEST(Partition, OwnedNodeForcesOfEveryPartAreTheSerialBits) {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;
+  Grid whole = small_grid(mesh);
+  const Scene scene = testing::plate_scene(0.9, 1e-6);
+  const ElasticConstants c = ElasticConstants::from(scene.material);
+  const ElementData elements = make_element_data(whole, c, scene.material);
+  lump_masses(whole, elements, scene.material.rho0);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), omega(0.0, 0.9);
+  for (vtkIdType i = 0; i < 3 * whole.num_points(); ++i) {
+    whole.x()[i] = whole.X()[i] + 0.05e-3 * unit(rng);
+    whole.v()[i] = 20.0 * unit(rng);
+  }
+  for (vtkIdType e = 0; e < whole.num_cells(); ++e) whole.damage()[e] = omega(rng);
+  ForceAssembler serial(whole, elements, c);
+  ASSERT_LT(serial.compute(whole), 0);
+  for (int parts : {2, 3, 5}) {
+    const Partition p = partition_grid(whole, parts);
+    for (int r = 0; r < parts; ++r) {
+      SCOPED_TRACE(::testing::Message() << parts << " parts, part " << r);
+      const LocalPart part = extract_part(whole, p, r);
+      Grid local(*part.mesh);
+      const ElementData local_elements = make_element_data(local, c, scene.material);
+      lump_masses(local, local_elements, scene.material.rho0);
+      for (std::size_t i = 0; i < part.global_node.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          local.x()[3 * i + k] = whole.x()[3 * part.global_node[i] + k];
+          local.v()[3 * i + k] = whole.v()[3 * part.global_node[i] + k];
+        }
+      for (std::size_t e = 0; e < part.global_cell.size(); ++e)
+        local.damage()[e] = whole.damage()[part.global_cell[e]];
+      ForceAssembler assembler(local, local_elements, c);
+      ASSERT_LT(assembler.compute(local), 0);
+      long owned = 0;
+      for (std::size_t i = 0; i < part.global_node.size(); ++i) {
+        if (!part.owned[i]) continue;
+        ++owned;
+        const vtkIdType g = part.global_node[i];
+        ASSERT_EQ(local.mass()[i], whole.mass()[g]) << "node " << g;
+        for (int k = 0; k < 3; ++k)
+          ASSERT_EQ(assembler.nodal_forces()[3 * i + k], serial.nodal_forces()[3 * g + k])
+              << "node " << g << " component " << k;  // bitwise, not near
+      }
+      EXPECT_EQ(owned, p.stats[r].owned_nodes);
+      for (std::size_t e = 0; e < part.global_cell.size(); ++e)
+        for (int k = 0; k < 6; ++k)
+          ASSERT_EQ(local.stress()[6 * e + k], whole.stress()[6 * part.global_cell[e] + k]);
+    }
   }
 }
 
