@@ -82,6 +82,8 @@ class CohesiveLinks {
 
   /// A new link (2.6) for the split of a node into a and b (the grid has num_points now).
   void add(CohesiveLink link, vtkIdType num_points);
+  /// The grid has num_points nodes now (a node was added that holds no link).
+  void resize_nodes(vtkIdType num_points) { linked_.resize(num_points, 0); }
 
   /// Granddaughters (Appendix A): node `old_node` split into itself (mass m1) and `new_node`
   /// (mass m2, adopted by the sorted `new_cells`): every link it held is cut in two (split_link).

@@ -117,9 +117,29 @@ std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements
   std::vector<SplitRecord> records;
   for (const SplitCandidate& c : candidates) {
     SplitRecord r;
-    if (split_one(grid, elements, forces, c, r)) records.push_back(r);
+    if (!split_one(grid, elements, forces, c, r)) continue;
+    if (count_splits_) {
+      const double* X = grid.X() + 3 * r.a;
+      count_split(r.A_c, X[0], X[1]);
+    }
+    records.push_back(std::move(r));
   }
   return records;
+}
+
+void Fracture::count_split(double A_c, double X, double Y) {
+  crack_area_ += A_c;
+  ++splits_;
+  if (std::isnan(tip_x_) || X > tip_x_) tip_x_ = X, tip_y_ = Y;
+}
+
+vtkIdType Fracture::apply_remote_split(Grid& grid, ForceAssembler& forces, vtkIdType K,
+                                       const std::vector<vtkIdType>& cells) {
+  const vtkIdType B = grid.split_node(K, cells);
+  forces.split_node(grid, K, B, cells);
+  root_.push_back(root_[K]);
+  links_.resize_nodes(grid.num_points());
+  return B;
 }
 
 std::vector<SplitRecord> Fracture::split_nodes(Grid& grid, const ElementData& elements,
@@ -216,11 +236,9 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler
   r.f0 = (r.m_a * r.F_b - r.m_b * r.F_a) / (r.m_a + r.m_b);
   CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), links_.law());
   r.A_c = link.A_c;
-  crack_area_ += r.A_c;
+  r.sigma1 = c.sigma1;
   if (link.f0 > 0) links_.add(std::move(link), grid.num_points());
-
-  ++splits_;
-  if (std::isnan(tip_x_) || XK.x() > tip_x_) tip_x_ = XK.x(), tip_y_ = XK.y();
+  r.b_cells = std::move(b_cells);
   return true;
 }
 

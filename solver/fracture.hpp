@@ -25,6 +25,8 @@ struct SplitRecord {
   Vec3 F_a = Vec3::Zero(), F_b = Vec3::Zero();  ///< element forces on them (2.3)
   Vec3 f0 = Vec3::Zero();     ///< initial cohesive force on a (2.6)
   double A_c = 0;             ///< new crack area, both faces
+  double sigma1 = 0;          ///< the candidate's sigma1 (its place in the splitting order)
+  std::vector<vtkIdType> b_cells;  ///< the cells that adopted b, ascending
 };
 
 /// Decides which nodes break and splits them; the links it makes live in CohesiveLinks.
@@ -43,6 +45,17 @@ class Fracture {
   /// topology.
   std::vector<SplitRecord> split(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                                  const std::vector<SplitCandidate>& candidates);
+
+  /// Splits without counting them in splits(), crack_area() and the tip (a decomposed run
+  /// counts every rank's splits in the global order: count_split).
+  void defer_counting() { count_splits_ = false; }
+  /// Counts a split in splits(), crack_area() and the tip (split() does it for its own).
+  void count_split(double A_c, double X, double Y);
+  /// A split another rank decided (decomposed runs, solver/halo.cpp): the local copy of node K
+  /// hands `cells` (local ids, ascending, non-empty) over to a new node, as Grid::split_node;
+  /// the node table and the per-node tables follow. Returns the new node's local id.
+  vtkIdType apply_remote_split(Grid& grid, ForceAssembler& forces, vtkIdType K,
+                               const std::vector<vtkIdType>& cells);
 
   /// candidates() then split(): the fracture part of a step.
   std::vector<SplitRecord> split_nodes(Grid& grid, const ElementData& elements,
@@ -77,6 +90,7 @@ class Fracture {
   mutable std::vector<std::uint8_t> hot_;     // scratch of candidates(): corner of a hot cell
   mutable std::vector<vtkIdType> hot_nodes_;  // the nodes so marked, ascending
   long splits_ = 0;
+  bool count_splits_ = true;
   double crack_area_ = 0;
   double tip_x_, tip_y_;
 };

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "halo.hpp"
+
 namespace brittle {
 
 StableStep stable_time_step(const Grid& grid, const ElementData& el, const ElasticConstants& c,
@@ -61,11 +63,12 @@ void Integrator::drift_unlinked(double dt) {
 
 int Integrator::advance_links(double dt, bool& capped) {
   capped = false;
-  if (links_.empty()) return 0;
   // The weakening law unloads along f = f0 (1 - omega) delta / delta_max, a spring that no
   // element-sized step resolves while delta_max is small: the links kick inside the step
-  // at dt / N (docs/model.md).
-  const int needed = links_.substeps_needed(grid_, dt);
+  // at dt / N (docs/model.md). One N for every link of the grid, over all ranks.
+  int needed = links_.empty() ? 0 : links_.substeps_needed(grid_, dt);
+  if (halo_) needed = halo_->max(needed);
+  if (links_.empty()) return 0;
   capped = needed > CohesiveLinks::max_substeps;
   const int substeps = std::min(needed, CohesiveLinks::max_substeps);
   const double substep = dt / substeps;
@@ -110,7 +113,14 @@ vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {
         v[j] = (x[j] - start_x_[3 * i + k]) / dt;
       }
   }
-  const vtkIdType bad = forces_.compute_elements(grid_);
+  if (halo_) halo_->exchange(x, v);  // ghosts: x(n+1) and the rate the viscosity sees
+  vtkIdType bad = forces_.compute_elements(grid_);
+  if (halo_) {  // the same verdict on every rank, naming the global cell
+    constexpr long none = std::numeric_limits<long>::max();
+    const long mine = bad >= 0 ? static_cast<long>(halo_->global_cell()[bad]) : none;
+    const long first = -halo_->max(-mine);  // the smallest over the ranks
+    bad = first == none ? -1 : static_cast<vtkIdType>(first);
+  }
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (int k = 0; k < 3; ++k) v[3 * nodes[i] + k] = linked_v_[3 * i + k];
   moved_.clear();
@@ -137,7 +147,9 @@ StepReport Integrator::step(double t, double dt) {
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
   clock.lap(times_.damage);
   if (fracture_.enabled()) {  // (2.10)-(2.12), links (2.6)
-    const std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);
+    std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);
+    if (halo_)  // the owner decides: a ghost's average (2.10) lacks cells of other ranks
+      std::erase_if(over, [this](const SplitCandidate& c) { return !halo_->owned()[c.node]; });
     clock.lap(times_.split_scan);
     if (!over.empty()) r.splits = fracture_.split(grid_, elements_, forces_, over);
     clock.lap(times_.splits);

@@ -18,6 +18,8 @@
 
 namespace brittle {
 
+class Halo;
+
 /// The smallest stable step of the grid's elements at their current shape (SPEC 4):
 /// dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) - xi_e), h_e = the element's smallest altitude
 /// (3V / largest face area), xi_e = its damping ratio at that size. `element` is the
@@ -112,6 +114,11 @@ class Integrator {
   /// Returns what happened; with bad_element >= 0 the state is not usable.
   StepReport step(double t, double dt);
 
+  /// A decomposed run (solver/halo.hpp): ghost nodes get their owners' x(n+1) and the velocity
+  /// the element viscosity sees before the element forces; the links' sub-step count and a
+  /// bad element are agreed over the ranks.
+  void set_halo(Halo* halo) { halo_ = halo; }
+
   /// Time spent in each phase of step() so far.
   const PhaseTimes& times() const { return times_; }
 
@@ -132,6 +139,7 @@ class Integrator {
   std::vector<vtkIdType> moved_;            // nodes that drifted in this step's sub-steps
   std::vector<double> start_x_, linked_v_;  // per moved node, 3 each
   PhaseTimes times_;
+  Halo* halo_ = nullptr;
 };
 
 }  // namespace brittle

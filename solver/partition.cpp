@@ -74,6 +74,22 @@ Partition partition_grid(const Grid& grid, int parts) {
     for (vtkIdType e = 0; e < m; ++e) p.cell_part[e] = static_cast<int>(epart[e]);
     p.cut_faces = objval;
   }
+  const long cut = p.cut_faces;
+  p = partition_from(grid, std::move(p.cell_part), parts);
+  p.cut_faces = cut;
+  return p;
+}
+
+Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts) {
+  const vtkIdType n = grid.num_points(), m = grid.num_cells();
+  BRITTLE_CHECK(parts >= 1 && static_cast<vtkIdType>(cell_part.size()) == m,
+                "partition: ", cell_part.size(), " cell parts for ", m, " cells in ", parts,
+                " parts (expected one part per cell)");
+  for (int q : cell_part)
+    BRITTLE_CHECK(q >= 0 && q < parts, "partition: part ", q, " (expected 0 to ", parts - 1, ")");
+  Partition p;
+  p.parts = parts;
+  p.cell_part = std::move(cell_part);
   std::vector<long> start, cells;
   node_cells(grid, start, cells);
   p.node_owner.assign(n, 0);
@@ -90,22 +106,23 @@ Partition partition_grid(const Grid& grid, int parts) {
   for (int r = 0; r < parts; ++r) {
     PartStats& s = p.stats[r];
     std::fill(neighbour.begin(), neighbour.end(), 0);
-    for (vtkIdType k = 0; k < n; ++k) {
-      if (p.node_owner[k] != r) continue;
-      for (long i = start[k]; i < start[k + 1]; ++i) {
-        const long e = cells[i];
-        if (cell_mark[e] == r) continue;
-        cell_mark[e] = r;
-        if (p.cell_part[e] != r) ++s.ghost_cells;
-        for (int c = 0; c < 4; ++c) {
-          const vtkIdType q = conn[4 * e + c];
-          if (node_mark[q] == r || p.node_owner[q] == r) continue;
-          node_mark[q] = r;
-          ++s.ghost_nodes;
-          neighbour[p.node_owner[q]] = 1;
-        }
+    auto hold = [&](long e) {
+      if (cell_mark[e] == r) return;
+      cell_mark[e] = r;
+      if (p.cell_part[e] != r) ++s.ghost_cells;
+      for (int c = 0; c < 4; ++c) {
+        const vtkIdType q = conn[4 * e + c];
+        if (node_mark[q] == r || p.node_owner[q] == r) continue;
+        node_mark[q] = r;
+        ++s.ghost_nodes;
+        neighbour[p.node_owner[q]] = 1;
       }
-    }
+    };
+    for (vtkIdType e = 0; e < m; ++e)
+      if (p.cell_part[e] == r) hold(e);
+    for (vtkIdType k = 0; k < n; ++k)
+      if (p.node_owner[k] == r)
+        for (long i = start[k]; i < start[k + 1]; ++i) hold(cells[i]);
     s.neighbours = static_cast<int>(std::count(neighbour.begin(), neighbour.end(), 1));
   }
   return p;
@@ -116,11 +133,13 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
                 " is not a part (expected 0 to ", partition.parts - 1, ")");
   const vtkIdType n = grid.num_points(), m = grid.num_cells();
   const vtkIdType* conn = grid.cells();
-  // Cells touching an owned node, then their nodes; both in global order.
+  // Owned cells and the cells touching an owned node, then their nodes; both in global order.
   std::vector<char> cell_in(m, 0), node_in(n, 0);
-  for (vtkIdType e = 0; e < m; ++e)
+  for (vtkIdType e = 0; e < m; ++e) {
+    cell_in[e] = partition.cell_part[e] == rank;
     for (int c = 0; c < 4; ++c)
       if (partition.node_owner[conn[4 * e + c]] == rank) cell_in[e] = 1;
+  }
   LocalPart part;
   for (vtkIdType e = 0; e < m; ++e)
     if (cell_in[e]) {

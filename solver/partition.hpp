@@ -18,7 +18,8 @@ namespace brittle {
 struct PartStats {
   long owned_cells = 0, owned_nodes = 0;
   long ghost_cells = 0;  ///< cells of other parts touching an owned node (computed redundantly)
-  long ghost_nodes = 0;  ///< nodes of the part's cells owned elsewhere (received every step)
+  long ghost_nodes = 0;  ///< nodes of the part's cells (owned and ghost) owned elsewhere
+                         ///< (received every step)
   int neighbours = 0;    ///< parts it receives ghost nodes from (messages per step)
 };
 
@@ -38,7 +39,7 @@ struct Partition {
 };
 
 /// What one rank holds of the grid: its owned cells and the ghost cells that touch its owned
-/// nodes, in global cell order, and the nodes of those cells, in global node order, as a mesh
+/// nodes (a rank owns every cell it holds and may own none of its nodes), in global cell order, and the nodes of those cells, in global node order, as a mesh
 /// of its own (reference positions). With this layer an owned node's force is the same sum, in
 /// the same order, as in the whole grid (docs/parallel.md).
 struct LocalPart {
@@ -55,5 +56,9 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank);
 /// fixed seed, so the same grid always gives the same partition) and computes each part's
 /// ghost layer. parts = 1 gives everything to part 0. Throws brittle::Error if METIS fails.
 Partition partition_grid(const Grid& grid, int parts);
+
+/// A given cell partition (cell_part: per cell, 0..parts-1; tests place boundaries by hand) with
+/// the node owners and ghost layers it implies. cut_faces is left 0.
+Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts);
 
 }  // namespace brittle

@@ -19,8 +19,7 @@ namespace {
 
 /// The typical element size: the median over elements of the edge of a regular tet of the
 /// element's volume (a band mesh has most of its elements in the band, where cracks run).
-double typical_element_size(const ElementData& el) {
-  std::vector<double> h(el.V0.begin(), el.V0.end());
+double typical_element_size(std::vector<double> h) {
   if (h.empty()) return 0;
   std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
   return std::cbrt(6.0 * std::sqrt(2.0) * h[h.size() / 2]);
@@ -29,8 +28,8 @@ double typical_element_size(const ElementData& el) {
 /// Crack fronts seeded at the notch tips: join = 4 h, separation = 8 h (docs/crack_fronts.md:
 /// on CM, splits along a running crack skip nodes, and 2.5 h took the main crack for a chain
 /// of nucleations).
-CrackFronts make_fronts(const Scene& scene, const ElementData& el) {
-  const double h = typical_element_size(el);
+CrackFronts make_fronts(const Scene& scene, const std::vector<double>& V0) {
+  const double h = typical_element_size(V0);
   CrackFronts f(4.0 * h, 8.0 * h);
   const GeometryParams& g = scene.geometry;
   if (g.notches.empty()) {
@@ -71,7 +70,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
       boundary_(scene, grid_, reference_mesh),
       integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_),
-      fronts_(make_fronts(scene, elements_)) {
+      fronts_(make_fronts(scene, elements_.V0)) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
   lump_masses(grid_, elements_, constants_.rho0);
@@ -110,7 +109,25 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   mesh_fingerprint_ = fnv1a(grid_.cells(), 4 * sizeof(vtkIdType) * grid_.num_cells(), h);
 }
 
-CrackFronts Simulation::make_crack_fronts() const { return make_fronts(scene_, elements_); }
+CrackFronts Simulation::make_crack_fronts() const {
+  if (!halo_) return make_fronts(scene_, elements_.V0);
+  std::vector<double> owned;  // the median of the whole grid's volumes, as in serial
+  for (vtkIdType e = 0; e < grid_.num_cells(); ++e)
+    if (halo_->owns_cell(e)) owned.push_back(elements_.V0[e]);
+  return make_fronts(scene_, halo_->gather_all(owned));
+}
+
+void Simulation::decompose(Halo& halo) {
+  BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
+  halo_ = &halo;
+  integrator_.set_halo(&halo);
+  fracture_.defer_counting();
+  fronts_ = make_crack_fronts();
+  StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
+  halo.min_with_id(stable.dt, element);
+  dt_ = initial_dt_ = stable.dt;
+}
 
 void Simulation::step() {
   last_step_ = integrator_.step(time_, dt_);
@@ -134,7 +151,17 @@ void Simulation::step() {
   for (const CohesiveLink& l : links_.removed())
     events_.push_back({time_, X[3 * l.a], X[3 * l.a + 1], X[3 * l.a + 2],
                        CrackEvent::Kind::link_failure, l.dissipated, l.A_c, l.a, l.b});
+  if (halo_) {  // every rank's splits, in the serial order, with the serial ids
+    if (fracture_.enabled())
+      global_splits_ = halo_->share_splits(r.splits, grid_, assembler_, fracture_);
+    for (const GlobalSplit& split : global_splits_) {
+      fronts_.on_split(time_, split.X[0], split.X[1]);
+      events_.push_back({time_, split.X[0], split.X[1], split.X[2], CrackEvent::Kind::split, 0.0,
+                         split.A_c, split.a, split.b});
+    }
+  }
   for (const SplitRecord& split : r.splits) {
+    if (halo_) break;
     const double* p = X + 3 * split.a;
     fronts_.on_split(time_, p[0], p[1]);
     events_.push_back({time_, p[0], p[1], p[2], CrackEvent::Kind::split, 0.0, split.A_c, split.a,
@@ -153,7 +180,12 @@ PhaseTimes Simulation::phases() const {
 }
 
 void Simulation::check_time_step() {
-  const StableStep s = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  StableStep s = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  if (halo_) {  // the whole grid's smallest step (ties: the lowest global cell)
+    vtkIdType element = s.element >= 0 ? halo_->global_cell()[s.element] : -1;
+    halo_->min_with_id(s.dt, element);
+    s.element = element;  // (altitude and xi are this rank's: messages only)
+  }
   if (s.dt >= (1.0 - kReductionTrigger) * dt_) return;
   BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_,
                 "stable time step collapsed at t = ", time_, " s (step ", steps_, "): element ",

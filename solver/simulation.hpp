@@ -17,6 +17,7 @@
 #include "element_forces.hpp"
 #include "fracture.hpp"
 #include "grid.hpp"
+#include "halo.hpp"
 #include "integrator.hpp"
 #include "material.hpp"
 #include "scene.hpp"
@@ -105,6 +106,7 @@ struct RunProgress {
 };
 
 class Simulation;
+class Halo;
 
 /// Frame times: output.frame_times, or every output.frame_interval, and the render.times (PNGs
 /// are rendered from frames), within [0, run.end_time], ascending, without repeats.
@@ -146,6 +148,14 @@ class Simulation {
   /// stop flag (set_stop_flag) turns non-zero the run finishes the step, writes a checkpoint
   /// and a last frame, and returns with status "interrupted".
   RunSummary run(const std::vector<Observer*>& observers);
+
+  /// Makes this simulation one rank's part of a decomposed run (solver/halo.hpp): it was
+  /// built on extract_part's mesh of this rank, and from now on its ghost nodes follow their
+  /// owners, dt and the crack-front distances are those of the whole grid, and splits are
+  /// shared. Collective. Owned nodes and cells then step with the serial run's bits.
+  void decompose(Halo& halo);
+  /// The splits of the last step on every rank, in the serial order (decomposed runs).
+  const std::vector<GlobalSplit>& last_global_splits() const { return global_splits_; }
 
   /// A flag the run polls after every step (set by a signal handler: app/main.cpp).
   void set_stop_flag(const std::atomic<int>* flag) { stop_flag_ = flag; }
@@ -242,6 +252,8 @@ class Simulation {
   const std::atomic<int>* stop_flag_ = nullptr;
   bool resumed_ = false;
   std::uint64_t mesh_fingerprint_ = 0;
+  Halo* halo_ = nullptr;
+  std::vector<GlobalSplit> global_splits_;
   vtkIdType initial_points_ = 0, fixed_nodes_ = 0;
 };
 

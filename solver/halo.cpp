@@ -1,0 +1,231 @@
+// Ghost exchange and shared splits of a decomposed run (docs/parallel.md).
+#include "halo.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <limits>
+#include <tuple>
+
+#include "error.hpp"
+
+namespace brittle {
+namespace {
+
+int comm_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+int comm_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+/// Doubles per ghost node and step: x (3) and v (3).
+constexpr int kPerNode = 6;
+
+}  // namespace
+
+Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
+    : rank_(comm_rank()), size_(comm_size()) {
+  BRITTLE_CHECK(partition.parts == size_, "decomposed run: a partition into ", partition.parts,
+                " parts for ", size_, " ranks (expected one part per rank)");
+  const vtkIdType n = whole.num_points(), m = whole.num_cells();
+  const vtkIdType* conn = whole.cells();
+  cell_part_ = partition.cell_part;
+  node_owner_ = partition.node_owner;
+  global_nodes_ = n;
+  // The ranks holding a cell: its part and the owners of its nodes (extract_part).
+  holder_start_.assign(m + 1, 0);
+  for (vtkIdType e = 0; e < m; ++e) {
+    int r[5] = {cell_part_[e], node_owner_[conn[4 * e]], node_owner_[conn[4 * e + 1]],
+                node_owner_[conn[4 * e + 2]], node_owner_[conn[4 * e + 3]]};
+    std::sort(r, r + 5);
+    int* end = std::unique(r, r + 5);
+    holders_.insert(holders_.end(), r, end);
+    holder_start_[e + 1] = static_cast<std::int64_t>(holders_.size());
+  }
+  global_cell_ = part.global_cell;
+  global_node_ = part.global_node;
+  owned_ = part.owned;
+  local_cell_.assign(m, -1);
+  for (std::size_t i = 0; i < global_cell_.size(); ++i) local_cell_[global_cell_[i]] = i;
+  local_node_.assign(n, -1);
+  for (std::size_t i = 0; i < global_node_.size(); ++i) local_node_[global_node_[i]] = i;
+  for (vtkIdType e : global_cell_)
+    BRITTLE_CHECK(holds(e, rank_), "decomposed run: cell ", e, " is not this rank's part");
+
+  // Send: owned nodes of the local cells to the other holders of those cells. Receive: nodes
+  // of the local cells that others own. Both sides derive the same lists, in global order.
+  std::vector<std::pair<int, vtkIdType>> send, recv;
+  for (vtkIdType e : global_cell_)
+    for (int c = 0; c < 4; ++c) {
+      const vtkIdType q = conn[4 * e + c];
+      if (node_owner_[q] == rank_) {
+        for (std::int64_t h = holder_start_[e]; h < holder_start_[e + 1]; ++h)
+          if (holders_[h] != rank_) send.emplace_back(holders_[h], q);
+      } else {
+        recv.emplace_back(node_owner_[q], q);
+      }
+    }
+  for (auto* list : {&send, &recv}) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  for (const auto& [r, q] : send) neighbour(r).send.push_back(local_node_[q]);
+  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local_node_[q]);
+}
+
+bool Halo::holds(vtkIdType e, int rank) const {
+  return std::binary_search(holders_.begin() + holder_start_[e],
+                            holders_.begin() + holder_start_[e + 1], rank);
+}
+
+Halo::Neighbour& Halo::neighbour(int rank) {
+  auto it = std::lower_bound(neighbours_.begin(), neighbours_.end(), rank,
+                             [](const Neighbour& n, int r) { return n.rank < r; });
+  if (it == neighbours_.end() || it->rank != rank) {
+    it = neighbours_.insert(it, Neighbour{});
+    it->rank = rank;
+  }
+  return *it;
+}
+
+void Halo::exchange(double* x, double* v) {
+  std::vector<MPI_Request> requests;
+  requests.reserve(2 * neighbours_.size());
+  for (Neighbour& n : neighbours_) {
+    if (n.recv.empty()) continue;
+    n.recv_buffer.resize(kPerNode * n.recv.size());
+    requests.emplace_back();
+    MPI_Irecv(n.recv_buffer.data(), static_cast<int>(n.recv_buffer.size()), MPI_DOUBLE, n.rank, 0,
+              MPI_COMM_WORLD, &requests.back());
+  }
+  for (Neighbour& n : neighbours_) {
+    if (n.send.empty()) continue;
+    n.send_buffer.resize(kPerNode * n.send.size());
+    double* b = n.send_buffer.data();
+    for (vtkIdType i : n.send) {
+      for (int k = 0; k < 3; ++k) *b++ = x[3 * i + k];
+      for (int k = 0; k < 3; ++k) *b++ = v[3 * i + k];
+    }
+    requests.emplace_back();
+    MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.rank, 0,
+              MPI_COMM_WORLD, &requests.back());
+    bytes_sent_ += sizeof(double) * n.send_buffer.size();
+    ++messages_sent_;
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  for (const Neighbour& n : neighbours_) {
+    const double* b = n.recv_buffer.data();
+    for (vtkIdType i : n.recv) {
+      for (int k = 0; k < 3; ++k) x[3 * i + k] = *b++;
+      for (int k = 0; k < 3; ++k) v[3 * i + k] = *b++;
+    }
+  }
+}
+
+void Halo::min_with_id(double& value, vtkIdType& id) const {
+  double least = value;
+  MPI_Allreduce(MPI_IN_PLACE, &least, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  long long mine = value == least ? static_cast<long long>(id)
+                                  : std::numeric_limits<long long>::max();
+  MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
+  value = least;
+  id = static_cast<vtkIdType>(mine);
+}
+
+int Halo::max(int value) const {
+  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+
+long Halo::max(long value) const {
+  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+
+std::vector<double> Halo::gather_all(const std::vector<double>& mine) const {
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size_), offsets(size_ + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 0; r < size_; ++r) offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<double> all(offsets[size_]);
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                 MPI_DOUBLE, MPI_COMM_WORLD);
+  return all;
+}
+
+std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own, Grid& grid,
+                                            ForceAssembler& forces, Fracture& fracture) {
+  // This rank's splits made local nodes; they are named below in the global order.
+  const vtkIdType before = static_cast<vtkIdType>(global_node_.size());
+  global_node_.resize(grid.num_points(), -1);
+  owned_.resize(grid.num_points(), 1);
+  // Wire format per split: sigma1, a, X (3), A_c, cell count, cells (doubles hold ids < 2^53).
+  std::vector<double> wire;
+  for (const SplitRecord& r : own) {
+    const double* X = grid.X() + 3 * r.a;
+    wire.insert(wire.end(), {r.sigma1, double(global_node_[r.a]), X[0], X[1], X[2], r.A_c,
+                             double(r.b_cells.size())});
+    for (vtkIdType c : r.b_cells) wire.push_back(double(global_cell_[c]));
+  }
+  const std::vector<double> all = gather_all(wire);
+  std::vector<GlobalSplit> splits;
+  for (std::size_t i = 0; i < all.size();) {
+    GlobalSplit s;
+    s.sigma1 = all[i];
+    s.a = static_cast<vtkIdType>(all[i + 1]);
+    std::copy(&all[i + 2], &all[i + 5], s.X);
+    s.A_c = all[i + 5];
+    const std::size_t cells = static_cast<std::size_t>(all[i + 6]);
+    for (std::size_t k = 0; k < cells; ++k) s.b_cells.push_back(static_cast<vtkIdType>(all[i + 7 + k]));
+    i += 7 + cells;
+    splits.push_back(std::move(s));
+  }
+  // The serial order (Fracture::candidates): decreasing sigma1, then node id.
+  std::sort(splits.begin(), splits.end(), [](const GlobalSplit& p, const GlobalSplit& q) {
+    return std::tie(q.sigma1, p.a) < std::tie(p.sigma1, q.a);
+  });
+  std::size_t next_own = 0;
+  std::vector<vtkIdType> cells;
+  for (GlobalSplit& s : splits) {
+    s.b = global_nodes_++;
+    const int owner = node_owner_[s.a];
+    node_owner_.push_back(owner);  // a daughter is owned where its mother is
+    local_node_.push_back(-1);
+    if (owner == rank_) {
+      // Own splits come in the same relative order (local order = global order).
+      BRITTLE_CHECK(next_own < own.size() && global_node_[own[next_own].a] == s.a,
+                    "decomposed run: split of node ", s.a, " out of order");
+      const vtkIdType B = own[next_own++].b;
+      BRITTLE_CHECK(B >= before, "decomposed run: split node ", B, " is not new");
+      global_node_[B] = s.b;
+      local_node_[s.b] = B;
+      for (Neighbour& n : neighbours_)
+        if (std::any_of(s.b_cells.begin(), s.b_cells.end(),
+                        [&](vtkIdType c) { return holds(c, n.rank); }))
+          n.send.push_back(B);
+    } else if (local_node_[s.a] >= 0) {
+      cells.clear();
+      for (vtkIdType c : s.b_cells)
+        if (local_cell_[c] >= 0) cells.push_back(local_cell_[c]);
+      if (!cells.empty()) {
+        const vtkIdType B = fracture.apply_remote_split(grid, forces, local_node_[s.a], cells);
+        global_node_.push_back(s.b);
+        owned_.push_back(0);
+        local_node_[s.b] = B;
+        neighbour(owner).recv.push_back(B);
+      }
+    }
+    fracture.count_split(s.A_c, s.X[0], s.X[1]);
+  }
+  BRITTLE_CHECK(next_own == own.size(), "decomposed run: ", own.size() - next_own,
+                " splits of this rank were not shared");
+  return splits;
+}
+
+}  // namespace brittle

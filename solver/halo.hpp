@@ -1,0 +1,91 @@
+// The ghost exchange of a decomposed run (issue 14, docs/parallel.md): every rank steps its own
+// part of the grid (extract_part: owned cells, and the ghost cells touching its owned nodes) and
+// after each update the owners send the positions and velocities of their nodes to the ranks
+// that hold them as ghosts. Splits are decided by the owner of the node and replayed on every
+// rank that holds the node's cells, in the serial order, with the serial node ids.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fracture.hpp"
+#include "grid.hpp"
+#include "partition.hpp"
+
+namespace brittle {
+
+/// A split as every rank learns it: global ids and the reference position of the node.
+struct GlobalSplit {
+  double sigma1 = 0;
+  vtkIdType a = -1, b = -1;  ///< global ids: the node that split and the new node
+  double X[3] = {0, 0, 0};   ///< reference position of a
+  double A_c = 0;
+  std::vector<vtkIdType> b_cells;  ///< global cells that adopted b, ascending
+};
+
+/// One rank's view of the decomposition and its messages (MPI_COMM_WORLD). Every call is
+/// collective: all ranks make the same calls in the same order.
+class Halo {
+ public:
+  /// `whole`: the whole grid before any step (the same on every rank); `partition` of it;
+  /// `part` = extract_part(whole, partition, rank of this process).
+  Halo(const Grid& whole, const Partition& partition, const LocalPart& part);
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  /// Local node -> global node, and whether this rank owns it (grows with splits).
+  const std::vector<vtkIdType>& global_node() const { return global_node_; }
+  const std::vector<char>& owned() const { return owned_; }
+  const std::vector<vtkIdType>& global_cell() const { return global_cell_; }
+  /// Whether this rank owns the local cell (the other local cells are ghosts).
+  bool owns_cell(vtkIdType local) const { return cell_part_[global_cell_[local]] == rank_; }
+  /// Nodes of the whole grid now (every rank knows every split).
+  vtkIdType global_nodes() const { return global_nodes_; }
+
+  /// Ghost nodes get their owners' x and v (non-blocking sends and receives, then a wait).
+  void exchange(double* x, double* v);
+  /// Smallest value over the ranks, with the global id that goes with it (the smaller id on
+  /// ties): the stable step and the element that sets it.
+  void min_with_id(double& value, vtkIdType& id) const;
+  /// Largest value over the ranks.
+  int max(int value) const;
+  long max(long value) const;
+  /// Every rank's values, rank after rank (MPI_Allgatherv).
+  std::vector<double> gather_all(const std::vector<double>& mine) const;
+
+  /// The splits of this step on every rank, in the serial order (decreasing sigma1, then node
+  /// id), with the serial ids of the new nodes. `own` are this rank's (local ids, from
+  /// Fracture::split); the splits of other ranks are applied to the local copies of their
+  /// nodes here (Fracture::apply_remote_split), and the send and receive lists follow.
+  std::vector<GlobalSplit> share_splits(const std::vector<SplitRecord>& own, Grid& grid,
+                                        ForceAssembler& forces, Fracture& fracture);
+
+  /// Bytes this rank sent in exchange() so far, and the messages (tests, docs/parallel.md).
+  std::uint64_t bytes_sent() const { return bytes_sent_; }
+  std::uint64_t messages_sent() const { return messages_sent_; }
+
+ private:
+  struct Neighbour {
+    int rank = -1;
+    std::vector<vtkIdType> send, recv;  ///< local ids, in increasing global id
+    std::vector<double> send_buffer, recv_buffer;
+  };
+  Neighbour& neighbour(int rank);
+  bool holds(vtkIdType global_cell, int rank) const;
+
+  int rank_ = 0, size_ = 1;
+  std::vector<int> cell_part_;                  ///< per global cell (static)
+  std::vector<std::int64_t> holder_start_;      ///< per global cell: the ranks holding it (CSR)
+  std::vector<int> holders_;
+  std::vector<vtkIdType> global_cell_;          ///< local -> global
+  std::vector<vtkIdType> local_cell_;           ///< global -> local (-1: not here)
+  std::vector<vtkIdType> global_node_;          ///< local -> global
+  std::vector<vtkIdType> local_node_;           ///< global -> local (-1: not here)
+  std::vector<char> owned_;
+  std::vector<int> node_owner_;                 ///< per global node
+  std::vector<Neighbour> neighbours_;           ///< in increasing rank
+  vtkIdType global_nodes_ = 0;
+  std::uint64_t bytes_sent_ = 0, messages_sent_ = 0;
+};
+
+}  // namespace brittle
