@@ -242,6 +242,11 @@ Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
   }
 }
 
+void Boundary::keep_nodes(const std::vector<char>& owned) {
+  std::erase_if(constraints_, [&](const Constrained& c) { return !owned[c.node]; });
+  std::erase_if(loads_, [&](const Loaded& l) { return !owned[l.node]; });
+}
+
 void Boundary::impose_velocities(Grid& grid, double t) const {
   double* v = grid.v();
   for (const Constrained& c : constraints_)

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "exact_sum.hpp"
 #include "grid.hpp"
 #include "material.hpp"
 #include "scene.hpp"
@@ -69,9 +70,18 @@ class Boundary {
   void impose_velocities(Grid& grid, double t) const;
 
   /// Work done on the body so far by tractions and by the reactions at constrained nodes [J].
-  double external_work() const { return traction_work_ + reaction_work_; }
-  double traction_work() const { return traction_work_; }
-  double reaction_work() const { return reaction_work_; }
+  /// Work of tractions and reactions on the body so far, exact (solver/exact_sum.hpp).
+  ExactSum external_work_sum() const {
+    ExactSum w = traction_work_;
+    w += reaction_work_;
+    return w;
+  }
+  double external_work() const { return external_work_sum().value(); }
+  double traction_work() const { return traction_work_.value(); }
+  double reaction_work() const { return reaction_work_.value(); }
+  /// A decomposed run: loads and constraints act on the nodes this rank owns only (ghost
+  /// nodes get their owners' velocities), so each node's work is counted once.
+  void keep_nodes(const std::vector<char>& owned);
   bool empty() const { return constraints_.empty() && loads_.empty(); }
 
   /// One line per boundary: name, type, nodes (faces), for the run log.
@@ -96,7 +106,7 @@ class Boundary {
   std::vector<Constrained> constraints_;
   std::vector<Loaded> loads_;
   std::vector<std::string> description_;
-  double traction_work_ = 0, reaction_work_ = 0;
+  ExactSum traction_work_, reaction_work_;
 };
 
 }  // namespace brittle

@@ -114,7 +114,7 @@ void Fracture::state(Ar& ar) {
 
 template <class Ar>
 void Damage::state(Ar& ar) {
-  io_all(ar, step_index_, undamaged_energy_, evaluated_at_, block_sums_, block_cells_,
+  io_all(ar, step_index_, undamaged_energy_, evaluated_at_, block_cells_,
          touched_nodes_, touched_);
 }
 
@@ -201,7 +201,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 1;
+constexpr std::uint32_t kFormat = 2;  // 2: exact energy sums
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "exact_sum.hpp"
 #include "error.hpp"
 #include "material.hpp"
 
@@ -109,6 +110,12 @@ void io(Ar& ar, T& v) {
 template <class Ar>
 void io(Ar& ar, Vec3& v) {
   ar.raw(v.data(), 3);
+}
+template <class Ar>
+void io(Ar& ar, ExactSum& s) {  // its settled words
+  ExactSum::Words w = s.words();
+  ar.raw(w.data(), w.size());
+  if constexpr (Ar::loading) s = ExactSum::from_words(w);
 }
 template <class Ar>
 void io(Ar& ar, std::string& s) {

@@ -203,14 +203,14 @@ void CohesiveLinks::refresh_linked(vtkIdType num_points) {
   for (vtkIdType p : linked_nodes_) linked_[p] = 1;
 }
 
-double CohesiveLinks::stored_energy() const {
-  double s = 0;
+ExactSum CohesiveLinks::stored_energy_sum() const {
+  ExactSum s;
   for (const CohesiveLink& l : links_) s += l.stored();
   return s;
 }
 
-double CohesiveLinks::dissipated_energy() const {
-  double s = removed_dissipated_;
+ExactSum CohesiveLinks::dissipated_energy_sum() const {
+  ExactSum s = removed_dissipated_;
   for (const CohesiveLink& l : links_) s += l.dissipated;
   return s;
 }

@@ -7,6 +7,7 @@
 
 #include <vtkType.h>
 
+#include "exact_sum.hpp"
 #include "grid.hpp"
 #include "material.hpp"
 
@@ -118,8 +119,12 @@ class CohesiveLinks {
   /// The links the last remove_broken took away.
   const std::vector<CohesiveLink>& removed() const { return removed_; }
 
-  double stored_energy() const;      ///< sum of V_c over live links (3.1)
-  double dissipated_energy() const;  ///< integral of D_c, removed links included (3.3)
+  /// Sum of V_c over live links (3.1), exact (solver/exact_sum.hpp).
+  ExactSum stored_energy_sum() const;
+  /// Integral of D_c, removed links included (3.3), exact.
+  ExactSum dissipated_energy_sum() const;
+  double stored_energy() const { return stored_energy_sum().value(); }
+  double dissipated_energy() const { return dissipated_energy_sum().value(); }
 
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
@@ -135,7 +140,7 @@ class CohesiveLinks {
   std::vector<vtkIdType> linked_nodes_;
   std::vector<double> delta_start_;  // per link, at begin_step
   std::vector<double> impulse_;      // per link: the prepared kick's dv of a (3) and b (3)
-  double removed_dissipated_ = 0;
+  ExactSum removed_dissipated_;
   std::vector<CohesiveLink> removed_;  // by the last remove_broken (not state: cleared first)
 };
 

@@ -14,11 +14,12 @@ Damage::Damage(const DamageParams& params, const ElasticConstants& c, double sig
   evaluated_at_.assign(num_cells, -1);
 }
 
-double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces, double dt) {
+ExactSum Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces, double dt,
+                        const std::uint8_t* counted) {
+  ExactSum total;
   constexpr vtkIdType kBlock = 512;  // damage gathers near the crack: small blocks, dynamic
   const vtkIdType ne = grid.num_cells();
   const vtkIdType blocks = (ne + kBlock - 1) / kBlock;
-  block_sums_.assign(blocks, 0.0);
   block_cells_.resize(blocks);
   const double *bound = forces.sigma1_bound(), *volume = forces.volumes(),
                *alpha1 = forces.alpha1();
@@ -28,7 +29,7 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
 
 #pragma omp parallel for schedule(dynamic)
   for (vtkIdType b = 0; b < blocks; ++b) {
-    double dissipated = 0.0;
+    ExactSum dissipated;
     std::vector<vtkIdType>& changed = block_cells_[b];
     changed.clear();
     for (vtkIdType e = b * kBlock; e < std::min(ne, (b + 1) * kBlock); ++e) {
@@ -53,13 +54,17 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
       undamaged_energy_[e] = end_energy;
       evaluated_at_[e] = now;
       if (Omega_new == Omega[e]) continue;
-      dissipated +=
+      if (!counted || counted[e])
+        dissipated +=
           0.5 * ((had_start ? start_energy : end_energy) + end_energy) * (Omega_new - Omega[e]);
       forces.scale_elastic(grid, e, (1.0 - Omega_new) / (1.0 - Omega[e]));
       Omega[e] = Omega_new;
       changed.push_back(e);
     }
-    block_sums_[b] = dissipated;
+    if (!changed.empty()) {
+#pragma omp critical
+      total += dissipated;  // exact: the order of the blocks does not matter
+    }
   }
   // Nodal sums of the corners of the changed cells, each node once.
   touched_nodes_.clear();
@@ -72,8 +77,6 @@ double Damage::update(Grid& grid, const ElementData& el, ForceAssembler& forces,
       }
   for (vtkIdType p : touched_nodes_) touched_[p] = 0;  // the order of the sums does not matter
   forces.gather(touched_nodes_);
-  double total = 0.0;
-  for (double s : block_sums_) total += s;
   return total;
 }
 

@@ -40,9 +40,11 @@ class Damage {
   /// the trapezoid of its values at the start and the end of the step (the work the
   /// central-difference kicks do along a step in which x and Omega both change); elements
   /// that were not evaluated the step before use the end value. Elements whose stress bound
-  /// is at most beta3 sigma_c are skipped (their Omega_d is 0). Sums over fixed blocks of
-  /// cells: independent of the thread count.
-  double update(Grid& grid, const ElementData& elements, ForceAssembler& forces, double dt);
+  /// is at most beta3 sigma_c are skipped (their Omega_d is 0). The sum is exact, of the
+  /// cells with counted[e] != 0 if given (a rank's own cells): independent of the thread and
+  /// rank count.
+  ExactSum update(Grid& grid, const ElementData& elements, ForceAssembler& forces, double dt,
+                  const std::uint8_t* counted = nullptr);
 
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
@@ -54,7 +56,6 @@ class Damage {
   long step_index_ = 0;                   // updates done so far
   std::vector<double> undamaged_energy_;  // per cell: V0 rho0 Sigma* at its last evaluation
   std::vector<long> evaluated_at_;        // per cell: the update index of that evaluation
-  std::vector<double> block_sums_;
   std::vector<std::vector<vtkIdType>> block_cells_;  // cells whose Omega changed, per block
   std::vector<vtkIdType> touched_nodes_;
   std::vector<std::uint8_t> touched_;  // scratch: 1 while a node is in touched_nodes_

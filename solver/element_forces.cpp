@@ -450,6 +450,21 @@ void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor)
   sigma1_bound_[e] *= factor;
 }
 
+void ForceAssembler::add_viscous_work(const Grid& grid, ExactSum& work, double dt,
+                                      const std::uint8_t* counted) const {
+  const vtkIdType ne = grid.num_cells();
+  const double* vp = viscous_power_.data();
+#pragma omp parallel
+  {
+    ExactSum mine;
+#pragma omp for schedule(static) nowait
+    for (vtkIdType e = 0; e < ne; ++e)
+      if (!counted || counted[e]) mine += dt * vp[e];
+#pragma omp critical
+    work += mine;  // exact: the order of the threads does not matter
+  }
+}
+
 double ForceAssembler::viscous_power() const {
   double sum = 0.0;
   for (double p : block_power_) sum += p;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "exact_sum.hpp"
 #include "grid.hpp"
 #include "material.hpp"
 
@@ -115,6 +116,10 @@ class ForceAssembler {
 
   /// Sum over elements of the viscous power from the last compute() (deterministic order).
   double viscous_power() const;
+  /// Adds dt x the viscous power of every element (of those with counted[e] != 0, if given)
+  /// to `work`, exactly: the same bits for any thread or rank count.
+  void add_viscous_work(const Grid& grid, ExactSum& work, double dt,
+                        const std::uint8_t* counted) const;
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper
   /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds

@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -51,6 +52,7 @@ Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
   global_cell_ = part.global_cell;
   global_node_ = part.global_node;
   owned_ = part.owned;
+  for (vtkIdType e : global_cell_) owned_cell_.push_back(cell_part_[e] == rank_);
   local_cell_.assign(m, -1);
   for (std::size_t i = 0; i < global_cell_.size(); ++i) local_cell_[global_cell_[i]] = i;
   local_node_.assign(n, -1);
@@ -157,6 +159,25 @@ std::vector<double> Halo::gather_all(const std::vector<double>& mine) const {
   MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
                  MPI_DOUBLE, MPI_COMM_WORLD);
   return all;
+}
+
+void Halo::sum(std::vector<ExactSum>& sums) const {
+  std::vector<double> mine;  // the words travel as doubles' bits
+  for (const ExactSum& s : sums) {
+    const ExactSum::Words w = s.words();
+    const std::size_t at = mine.size();
+    mine.resize(at + w.size());
+    std::memcpy(mine.data() + at, w.data(), sizeof(w));
+  }
+  const std::vector<double> all = gather_all(mine);
+  const std::size_t per_rank = mine.size();
+  for (auto& s : sums) s = ExactSum();
+  for (int r = 0; r < size_; ++r)
+    for (std::size_t i = 0; i < sums.size(); ++i) {
+      ExactSum::Words w;
+      std::memcpy(w.data(), all.data() + r * per_rank + i * w.size(), sizeof(w));
+      sums[i] += ExactSum::from_words(w);
+    }
 }
 
 std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own, Grid& grid,

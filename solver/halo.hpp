@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "exact_sum.hpp"
 #include "fracture.hpp"
 #include "grid.hpp"
 #include "partition.hpp"
@@ -38,7 +39,11 @@ class Halo {
   const std::vector<char>& owned() const { return owned_; }
   const std::vector<vtkIdType>& global_cell() const { return global_cell_; }
   /// Whether this rank owns the local cell (the other local cells are ghosts).
-  bool owns_cell(vtkIdType local) const { return cell_part_[global_cell_[local]] == rank_; }
+  bool owns_cell(vtkIdType local) const { return owned_cell_[local] != 0; }
+  /// Per local cell: 1 if this rank owns it.
+  const std::vector<std::uint8_t>& owned_cells() const { return owned_cell_; }
+  /// The exact sums of every rank added (in place; the same on every rank).
+  void sum(std::vector<ExactSum>& sums) const;
   /// Nodes of the whole grid now (every rank knows every split).
   vtkIdType global_nodes() const { return global_nodes_; }
 
@@ -82,6 +87,7 @@ class Halo {
   std::vector<vtkIdType> global_node_;          ///< local -> global
   std::vector<vtkIdType> local_node_;           ///< global -> local (-1: not here)
   std::vector<char> owned_;
+  std::vector<std::uint8_t> owned_cell_;
   std::vector<int> node_owner_;                 ///< per global node
   std::vector<Neighbour> neighbours_;           ///< in increasing rank
   vtkIdType global_nodes_ = 0;

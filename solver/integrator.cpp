@@ -142,9 +142,11 @@ StepReport Integrator::step(double t, double dt) {
   clock.lap(times_.links);
   r.bad_element = compute_element_forces(dt, clock);  // F(n+1): (B.4) + (B.5) at x(n+1)
   if (r.bad_element >= 0) return r;
-  r.viscous_dissipated = dt * forces_.viscous_power();
+  // A decomposed run counts the cells it owns (the ghost cells are counted by their owners).
+  const std::uint8_t* counted = halo_ ? halo_->owned_cells().data() : nullptr;
+  forces_.add_viscous_work(grid_, r.viscous_dissipated, dt, counted);
   if (damage_.enabled())  // Omega(n+1) (5.2)-(5.3); F(n+1) brought to it
-    r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt);
+    r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt, counted);
   clock.lap(times_.damage);
   if (fracture_.enabled()) {  // (2.10)-(2.12), links (2.6)
     std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);

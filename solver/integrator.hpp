@@ -78,8 +78,8 @@ class PhaseClock {
 
 /// What one step did, for the simulation's bookkeeping and warnings.
 struct StepReport {
-  double viscous_dissipated = 0;  ///< dt * viscous power of the step
-  double damage_dissipated = 0;   ///< energy the damage update dissipated (5.1)
+  ExactSum viscous_dissipated;   ///< dt * viscous power of the step, element by element
+  ExactSum damage_dissipated;    ///< energy the damage update dissipated (5.1)
   int substeps = 0;               ///< link sub-steps used (0 without links)
   bool substeps_capped = false;   ///< the links needed more than CohesiveLinks::max_substeps
   std::size_t links_removed = 0;  ///< links whose omega reached 1 this step

@@ -122,6 +122,7 @@ void Simulation::decompose(Halo& halo) {
   halo_ = &halo;
   integrator_.set_halo(&halo);
   fracture_.defer_counting();
+  boundary_.keep_nodes(halo.owned());
   fronts_ = make_crack_fronts();
   StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
   vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
@@ -200,42 +201,48 @@ void Simulation::check_time_step() {
 }
 
 Energies Simulation::energies() const {
-  // Sums over fixed blocks of nodes and of cells, added in block order: the same bits for any
-  // thread count (the blocks, not the threads, fix the order).
-  constexpr vtkIdType kBlock = 4096;
+  // Exact sums (solver/exact_sum.hpp), rounded once: the same bits for any thread count and,
+  // in a decomposed run (each rank adding the nodes and cells it owns), any rank count.
   const vtkIdType np = grid_.num_points(), ne = grid_.num_cells();
-  const vtkIdType node_blocks = (np + kBlock - 1) / kBlock,
-                  cell_blocks = (ne + kBlock - 1) / kBlock;
-  std::vector<double> kinetic(node_blocks, 0.0), elastic(cell_blocks, 0.0);
   const double *v = grid_.v(), *m = grid_.mass(), *Omega = grid_.damage();
+  const char* owned_node = halo_ ? halo_->owned().data() : nullptr;
+  const std::uint8_t* owned_cell = halo_ ? halo_->owned_cells().data() : nullptr;
+  std::vector<ExactSum> sums(7);
+  ExactSum &kinetic = sums[0], &elastic = sums[1];
 #pragma omp parallel
   {
+    ExactSum k, w;
 #pragma omp for schedule(static) nowait
-    for (vtkIdType b = 0; b < node_blocks; ++b) {
-      double sum = 0.0;
-      for (vtkIdType i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i)
-        sum += 0.5 * m[i] *
-               (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-      kinetic[b] = sum;
-    }
-#pragma omp for schedule(static)
-    for (vtkIdType b = 0; b < cell_blocks; ++b) {
-      double sum = 0.0;
-      for (vtkIdType c = b * kBlock; c < std::min(ne, (b + 1) * kBlock); ++c)
-        sum += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
-                                                       constants_.K, constants_.mu, Omega[c]);
-      elastic[b] = sum;
+    for (vtkIdType i = 0; i < np; ++i)
+      if (!owned_node || owned_node[i])
+        k += 0.5 * m[i] *
+             (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+#pragma omp for schedule(static) nowait
+    for (vtkIdType c = 0; c < ne; ++c)
+      if (!owned_cell || owned_cell[c])
+        w += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
+                                                     constants_.K, constants_.mu, Omega[c]);
+#pragma omp critical
+    {
+      kinetic += k;
+      elastic += w;
     }
   }
+  sums[2] = viscous_dissipated_;
+  sums[3] = links_.stored_energy_sum();
+  sums[4] = links_.dissipated_energy_sum();
+  sums[5] = damage_dissipated_;
+  sums[6] = boundary_.external_work_sum();
+  if (halo_) halo_->sum(sums);  // every rank's share (the links live on their nodes' owners)
   Energies e;
   e.time = time_;
-  for (double k : kinetic) e.kinetic += k;
-  for (double w : elastic) e.elastic += w;
-  e.viscous_dissipated = viscous_dissipated_;
-  e.cohesive_stored = links_.stored_energy();
-  e.cohesive_dissipated = links_.dissipated_energy();
-  e.damage_dissipated = damage_dissipated_;
-  e.external_work = boundary_.external_work();
+  e.kinetic = sums[0].value();
+  e.elastic = sums[1].value();
+  e.viscous_dissipated = sums[2].value();
+  e.cohesive_stored = sums[3].value();
+  e.cohesive_dissipated = sums[4].value();
+  e.damage_dissipated = sums[5].value();
+  e.external_work = sums[6].value();
   energy_reference_ = std::max({energy_reference_, initial_energy_, e.kinetic + e.elastic});
   e.reference = energy_reference_;
   return e;

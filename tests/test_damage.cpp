@@ -62,7 +62,7 @@ TEST(Damage, GridHeldAtUniformStress) {
   for (int n = 1; n <= 50; ++n) {
     const double Omega_d = damage_target((1 - Omega) * 1.2 * sigma_c, sigma_c, s.damage);
     Omega += std::max(Omega_d - Omega, 0.0) * decay;
-    dissipated += sim.damage().update(g, sim.elements(), sim.forces(), dt);
+    dissipated += sim.damage().update(g, sim.elements(), sim.forces(), dt).value();
     for (vtkIdType e = 0; e < g.num_cells(); ++e)
       ASSERT_NEAR(g.damage()[e], Omega, 1e-9) << "step " << n;
     const std::vector<double> updated = sim.force();

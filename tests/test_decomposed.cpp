@@ -2,7 +2,7 @@
 // under mpiexec with 1, 2 and 3 ranks: every rank steps the whole plate serially and its own
 // part of it (solver/halo.hpp) side by side, and checks that its owned nodes and cells hold the
 // serial bits after every stretch of steps, and that every rank knows every split, in the
-// serial order with the serial node ids.
+// serial order with the serial node ids, and the energy budget has the serial bits.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -91,6 +91,15 @@ Crossings expect_serial_bits(const Scene& scene, int checks, int steps,
     EXPECT_EQ(local.fracture().splits(), serial.fracture().splits());
     EXPECT_EQ(local.fracture().crack_area(), serial.fracture().crack_area());
     EXPECT_EQ(halo.global_nodes(), whole.num_points());
+    // the energy budget, every term (exact sums over each rank's nodes, cells and links)
+    const Energies a = local.energies(), b = serial.energies();
+    EXPECT_EQ(a.kinetic, b.kinetic);
+    EXPECT_EQ(a.elastic, b.elastic);
+    EXPECT_EQ(a.viscous_dissipated, b.viscous_dissipated);
+    EXPECT_EQ(a.cohesive_stored, b.cohesive_stored);
+    EXPECT_EQ(a.cohesive_dissipated, b.cohesive_dissipated);
+    EXPECT_EQ(a.damage_dissipated, b.damage_dissipated);
+    EXPECT_EQ(a.external_work, b.external_work);
     long mismatched = 0, owned = 0;
     for (vtkIdType i = 0; i < g.num_points(); ++i) {
       if (!halo.owned()[i]) continue;

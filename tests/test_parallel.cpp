@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include "cli_helpers.hpp"
 #include "fixtures.hpp"
 #include "element_forces.hpp"
+#include "exact_sum.hpp"
 #include "grid.hpp"
 #include "partition.hpp"
 #include "plate_mesh.hpp"
@@ -151,6 +154,51 @@ TEST(Partition, OwnedNodeForcesOfEveryPartAreTheSerialBits) {
           ASSERT_EQ(local.stress()[6 * e + k], whole.stress()[6 * part.global_cell[e] + k]);
     }
   }
+}
+
+/// The exact sum (solver/exact_sum.hpp) does not depend on the order of the additions, keeps
+/// what a floating-point sum loses, and rounds to within an ulp.
+TEST(ExactSum, OrderDoesNotMatterAndNothingIsLost) {
+  ExactSum cancel;
+  for (double x : {1e16, 1.0, -1e16, 1e-300, -1e-300, 5e-324}) cancel += x;
+  EXPECT_EQ(cancel.value(), 1.0);  // a float sum gives 0; the exact 1 + 5e-324 rounds to 1
+  ExactSum tiny;
+  tiny += 5e-324;
+  tiny += 5e-324;
+  EXPECT_EQ(tiny.value(), 1e-323);  // subnormals add exactly
+  ExactSum big;
+  big += 1.7e308;
+  big += 1.7e308;
+  big += -1.7e308;
+  EXPECT_EQ(big.value(), 1.7e308);  // past the double range and back
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-40, 40);
+  std::vector<double> values(20000);
+  for (double& x : values) x = std::ldexp(mantissa(rng), exponent(rng));
+  ExactSum forward, halves;
+  for (double x : values) forward += x;
+  std::shuffle(values.begin(), values.end(), rng);
+  ExactSum a, b;
+  for (std::size_t i = 0; i < values.size(); ++i) (i % 2 ? a : b) += values[i];
+  halves += a;
+  halves += b;
+  EXPECT_EQ(forward.value(), halves.value());
+  EXPECT_EQ(ExactSum::from_words(forward.words()).value(), forward.value());
+  long double reference = 0;  // 64-bit mantissa, sorted by magnitude: close to exact
+  std::sort(values.begin(), values.end(), [](double p, double q) { return std::abs(p) < std::abs(q); });
+  for (double x : values) reference += x;
+  EXPECT_NEAR(forward.value(), static_cast<double>(reference),
+              4 * std::numeric_limits<double>::epsilon() * std::abs(forward.value()));
+  ExactSum negative;
+  negative += -2.5;
+  negative += 0.25;
+  EXPECT_EQ(negative.value(), -2.25);
+  ExactSum nan;
+  nan += std::numeric_limits<double>::infinity();
+  EXPECT_EQ(nan.value(), std::numeric_limits<double>::infinity());
+  nan += -std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(std::isnan(nan.value()));
 }
 
 /// mpiexec with the environment Open MPI needs to run as root in CI, oversubscribed.
