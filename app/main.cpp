@@ -59,10 +59,12 @@ class Progress : public brittle::Observer {
     if (sim.resumed())
       std::fprintf(stderr, "brittle: resumed from the checkpoint at t = %.4g s, step %ld\n",
                    sim.time(), sim.steps());
-    std::fprintf(stderr, "brittle: %lld nodes, %lld tets, dt = %.4g s, %ld steps to %.4g s\n",
-                 static_cast<long long>(sim.grid().num_points()),
-                 static_cast<long long>(sim.grid().num_cells()), sim.dt(),
-                 static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5),
+    const brittle::Halo* halo = sim.halo();  // a decomposed run: the whole grid's counts
+    std::fprintf(stderr, "brittle: %lld nodes, %lld tets%s, dt = %.4g s, %ld steps to %.4g s\n",
+                 static_cast<long long>(halo ? halo->initial_nodes() : sim.grid().num_points()),
+                 static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()),
+                 halo ? (" over " + std::to_string(halo->size()) + " ranks").c_str() : "",
+                 sim.dt(), static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5),
                  sim.scene().run.end_time);
   }
   void on_step(const brittle::Simulation& sim) override {
@@ -150,6 +152,11 @@ int run_command(const std::vector<std::string>& args) {
     return 0;
   }
   Progress progress(vm.count("profile") > 0);
+  const bool decomposed = brittle::launched_by_mpi();  // mpirun -np N brittle run
+  if (decomposed) brittle::begin_decomposed_run();
+  BRITTLE_CHECK(!decomposed || (!vm.count("resume") && !vm.count("dry-run")),
+                "brittle run under mpirun: --resume and --dry-run are not built for a run "
+                "decomposed over ranks (docs/parallel.md; expected them without mpirun)");
   if (vm.count("resume")) {
     const std::string dir = vm["resume"].as<std::string>();
     BRITTLE_CHECK(files.empty() && out.empty() && !vm.count("dry-run"), "brittle run --resume ",
@@ -168,6 +175,12 @@ int run_command(const std::vector<std::string>& args) {
     return 0;
   }
   brittle::install_stop_handlers();
+  if (decomposed) {
+    const brittle::RunSummary s =
+        brittle::run_decomposed(scene, {&progress}, &brittle::stop_signal());
+    if (brittle::mpi_rank() != 0) return s.status == "interrupted" ? 128 + brittle::stop_signal().load() : 0;
+    return finish_run(s, scene.output.directory);
+  }
   return finish_run(brittle::run_scene(scene, {&progress}, &brittle::stop_signal()), scene.output.directory);
 }
 
@@ -197,13 +210,7 @@ int main(int argc, char** argv) {
       std::cout << kUsage;
       return 0;
     }
-    if (args[0] == "run") {
-      BRITTLE_CHECK(brittle::mpi_size() == 1, "brittle run under mpirun with ",
-                    brittle::mpi_size(), " ranks: one run over several ranks (domain "
-                    "decomposition) is not built yet (docs/parallel.md); mpirun spreads whole "
-                    "runs of brittle sweep and brittle study over ranks");
-      return run_command({args.begin() + 1, args.end()});
-    }
+    if (args[0] == "run") return run_command({args.begin() + 1, args.end()});
     if (args[0] == "render") return brittle::render_command({args.begin() + 1, args.end()});
     if (args[0] == "figure") return brittle::figure_command({args.begin() + 1, args.end()});
     if (args[0] == "chart") return brittle::chart_command({args.begin() + 1, args.end()});
@@ -217,7 +224,8 @@ int main(int argc, char** argv) {
     std::cerr << "brittle: error: unknown command '" << args[0] << "'\n" << kUsage;
     return 2;
   } catch (const std::exception& e) {  // control bytes of a binary input are escaped
-    std::cerr << "brittle: error: " << brittle::escape_control(e.what()) << "\n";
+    if (!brittle::silent_rank())  // a decomposed run: every rank has the same error
+      std::cerr << "brittle: error: " << brittle::escape_control(e.what()) << "\n";
     return 2;
   } catch (...) {  // nothing may end the program with std::terminate
     std::cerr << "brittle: error: an unknown failure (a library threw something that is not an "

@@ -4,20 +4,30 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <memory>
 #include <cstdio>
 #include <filesystem>
 #include <cstdlib>
 #include <sstream>
 
 #include <boost/program_options.hpp>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
 #include <vtkIntArray.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
 
 #include "command_line.hpp"
 #include "error.hpp"
+#include "checkpoint.hpp"
+#include "crack_pattern.hpp"
 #include "grid.hpp"
+#include "halo.hpp"
 #include "lists.hpp"
 #include "output.hpp"
 #include "partition.hpp"
@@ -48,7 +58,141 @@ void write_partition_vtu(const Grid& grid, const Partition& p, const std::string
   write_vtu_file(*copy, path);
 }
 
+int g_decomposed_rank = -1;  ///< this process's rank in a decomposed run
+
+/// Throws on every rank the error of the lowest rank that has one (`mine`, empty if none):
+/// ranks that fail alone must not leave the others waiting in a collective.
+void agree(const std::string& mine) {
+  int first = mine.empty() ? mpi_size() : mpi_rank();
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first == mpi_size()) return;
+  long length = static_cast<long>(mine.size());
+  MPI_Bcast(&length, 1, MPI_LONG, first, MPI_COMM_WORLD);
+  std::string text = mine;
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD);
+  throw Error(first == 0 ? text : "rank " + std::to_string(first) + ": " + text);
+}
+
+/// Runs `f` on this rank and agrees on its outcome over the ranks (agree).
+template <class F>
+void on_every_rank(F&& f) {
+  std::string error;
+  try {
+    f();
+  } catch (const std::exception& e) {
+    error = e.what();
+    if (error.empty()) error = "unknown error";
+  }
+  agree(error);
+}
+
+/// Rank 0's mesh on every rank: points and tets, broadcast.
+vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;
+  std::vector<double> points;
+  std::vector<std::int64_t> cells;
+  on_every_rank([&] {
+    if (mpi_rank() != 0) return;
+    mesh = make_mesh(scene);
+    points.resize(3 * mesh->GetNumberOfPoints());
+    for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p) mesh->GetPoint(p, &points[3 * p]);
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c) {
+      if (mesh->GetCellType(c) != VTK_TETRA) continue;  // as Grid takes them
+      mesh->GetCellPoints(c, ids);
+      for (int k = 0; k < 4; ++k) cells.push_back(ids->GetId(k));
+    }
+  });
+  std::int64_t sizes[2] = {static_cast<std::int64_t>(points.size()),
+                           static_cast<std::int64_t>(cells.size())};
+  MPI_Bcast(sizes, 2, MPI_INT64_T, 0, MPI_COMM_WORLD);
+  points.resize(sizes[0]);
+  cells.resize(sizes[1]);
+  MPI_Bcast(points.data(), static_cast<int>(sizes[0]), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(cells.data(), static_cast<int>(sizes[1]), MPI_INT64_T, 0, MPI_COMM_WORLD);
+  if (mpi_rank() == 0) return mesh;
+  auto pts = vtkSmartPointer<vtkPoints>::New();
+  pts->SetDataTypeToDouble();
+  pts->SetNumberOfPoints(sizes[0] / 3);
+  for (std::int64_t p = 0; p < sizes[0] / 3; ++p) pts->SetPoint(p, &points[3 * p]);
+  auto tets = vtkSmartPointer<vtkCellArray>::New();
+  for (std::int64_t c = 0; c < sizes[1] / 4; ++c) {
+    const vtkIdType ids[4] = {cells[4 * c], cells[4 * c + 1], cells[4 * c + 2], cells[4 * c + 3]};
+    tets->InsertNextCell(4, ids);
+  }
+  mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  mesh->SetPoints(pts);
+  mesh->SetCells(VTK_TETRA, tets);
+  return mesh;
+}
+
+/// What a decomposed run does not do yet, refused before anything is read or written.
+void check_decomposable(const Scene& scene) {
+  const std::string why = " is not built for a run decomposed over MPI ranks yet (docs/parallel.md";
+  BRITTLE_CHECK(scene.sensors.empty(), "[sensor.", scene.sensors.empty() ? "" : scene.sensors[0].name,
+                "]: sensors", why, "; expected no [sensor.*] section, or run without mpirun)");
+  BRITTLE_CHECK(scene.render.times.empty(), "render.times: frames rendered while running", why,
+                "; render the .pvd afterwards)");
+  BRITTLE_CHECK(scene.output.checkpoint_interval <= 0, "output.checkpoint_interval = ",
+                scene.output.checkpoint_interval, ": checkpoints", why, "; expected 0)");
+  for (const BoundaryParams& b : scene.boundaries)
+    BRITTLE_CHECK(b.region.group.empty(), "[boundary.", b.name, "] group = ", b.region.group,
+                  ": physical-group regions", why, "; expected a box)");
+  for (const InitialVelocityParams& v : scene.initial.velocities)
+    BRITTLE_CHECK(v.region.group.empty(), "[initial.", v.name, "] group = ", v.region.group,
+                  ": physical-group regions", why, "; expected a box)");
+}
+
 }  // namespace
+
+bool silent_rank() { return g_decomposed_rank > 0; }
+
+void begin_decomposed_run() { g_decomposed_rank = mpi_rank(); }
+
+RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
+                          const std::atomic<int>* stop) {
+  const int rank = mpi_rank(), ranks = mpi_size();
+  begin_decomposed_run();
+  check_decomposable(scene);  // the same scene on every rank: the same verdict
+  auto mesh = shared_mesh(scene);
+  std::unique_ptr<Simulation> sim;
+  std::unique_ptr<Halo> halo;
+  {
+    const Grid whole(*mesh);
+    std::vector<int> cell_part(whole.num_cells(), 0);
+    on_every_rank([&] {
+      if (rank == 0 && ranks > 1) cell_part = partition_grid(whole, ranks).cell_part;
+    });
+    MPI_Bcast(cell_part.data(), static_cast<int>(cell_part.size()), MPI_INT, 0, MPI_COMM_WORLD);
+    const Partition partition = partition_from(whole, std::move(cell_part), ranks);
+    const LocalPart part = extract_part(whole, partition, rank);
+    mesh = nullptr;  // the whole mesh is not needed from here on
+    on_every_rank([&] { sim = std::make_unique<Simulation>(scene, *part.mesh); });
+    halo = std::make_unique<Halo>(whole, partition, part);
+  }
+  sim->decompose(*halo);
+  sim->set_stop_flag(stop);
+  const std::string& dir = scene.output.directory;
+  std::vector<std::unique_ptr<Observer>> writers;
+  on_every_rank([&] {
+    std::filesystem::create_directories(dir);
+    if (scene.output.vtu) writers.push_back(std::make_unique<PieceSeriesWriter>(dir, *halo));
+    if (rank != 0) return;
+    std::error_code ec;  // an earlier serial run's checkpoint is not this run's state
+    std::filesystem::remove(checkpoint_path(dir), ec);
+    writers.push_back(std::make_unique<EnergyCsvWriter>(dir, false));
+    if (sim->fracture().enabled()) {
+      writers.push_back(std::make_unique<CrackTipCsvWriter>(dir));
+      writers.push_back(std::make_unique<PatternWriter>(dir));
+    }
+    writers.push_back(std::make_unique<SummaryWriter>(dir));
+  });
+  std::vector<Observer*> observers;
+  for (auto& w : writers) observers.push_back(w.get());
+  if (rank == 0) observers.insert(observers.end(), extra.begin(), extra.end());
+  return sim->run(observers);
+}
 
 bool launched_by_mpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})

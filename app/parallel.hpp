@@ -3,8 +3,11 @@
 // `brittle partition`, which measures the domain decomposition of a scene's mesh.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
+
+#include "simulation.hpp"
 
 namespace brittle {
 
@@ -30,6 +33,22 @@ int mpi_size();
 void mpi_barrier();
 /// Element-wise maximum over the ranks, in place (nothing without MPI).
 void mpi_max(std::vector<int>& values);
+
+/// True when this process is a rank other than 0 of a decomposed `brittle run`: it prints no
+/// error (every rank ends with the same one, and rank 0 prints it).
+bool silent_rank();
+/// Marks this process as a rank of a decomposed run (from the moment its options are read).
+void begin_decomposed_run();
+
+/// `mpirun -np N brittle run SCENE`: one run decomposed over the ranks (docs/parallel.md).
+/// Rank 0 meshes and partitions (METIS) the plate and sends both to every rank; each rank
+/// steps its part (solver/halo.hpp) and writes its piece of every frame; rank 0 writes
+/// energies.csv, crack_tip.csv, events.csv, pattern.json, summary.json and the .pvtu/.pvd
+/// series. Refused with one line, before anything is written: sensors, render.times,
+/// checkpoints and physical-group regions (not built for decomposed runs yet). `extra`
+/// observers (progress) run on rank 0.
+RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
+                          const std::atomic<int>* stop);
 
 /// `brittle partition SCENE.ini [MORE.ini ...] --ranks 2,4 [--set k=v ...]`: meshes the
 /// scene, partitions it for each rank count and prints the partition quality (ghost nodes,

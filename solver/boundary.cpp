@@ -4,6 +4,7 @@
 
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -15,6 +16,7 @@
 #include <map>
 
 #include "error.hpp"
+#include "partition.hpp"
 
 namespace brittle {
 
@@ -75,8 +77,12 @@ std::vector<std::uint8_t> region_mask(const RegionParams& region, vtkUnstructure
     return in;
   }
   BRITTLE_CHECK(region.box.size() == 6, where, ": a region needs a box or a group");
+  // A rank's part of a decomposed run carries the whole mesh's bounds (extract_part): the same
+  // tolerance, so the same nodes, as the serial run.
   double b[6];
   mesh.GetBounds(b);
+  if (vtkDataArray* whole = mesh.GetFieldData()->GetArray(kWholeBounds))
+    for (int i = 0; i < 6; ++i) b[i] = whole->GetComponent(0, i);
   const double tol =
       1e-6 * std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
                        (b[5] - b[4]) * (b[5] - b[4]));

@@ -25,9 +25,6 @@ int comm_size() {
   return n;
 }
 
-/// Doubles per ghost node and step: x (3) and v (3).
-constexpr int kPerNode = 6;
-
 }  // namespace
 
 Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
@@ -38,7 +35,7 @@ Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
   const vtkIdType* conn = whole.cells();
   cell_part_ = partition.cell_part;
   node_owner_ = partition.node_owner;
-  global_nodes_ = n;
+  global_nodes_ = initial_nodes_ = n;
   // The ranks holding a cell: its part and the owners of its nodes (extract_part).
   holder_start_.assign(m + 1, 0);
   for (vtkIdType e = 0; e < m; ++e) {
@@ -96,24 +93,29 @@ Halo::Neighbour& Halo::neighbour(int rank) {
   return *it;
 }
 
-void Halo::exchange(double* x, double* v) {
+void Halo::exchange(double* x, double* v) { send_ghosts({{x, 3}, {v, 3}}); }
+
+void Halo::refresh_for_output(double* v, double* mass) { send_ghosts({{v, 3}, {mass, 1}}); }
+
+void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
+  int per_node = 0;
+  for (const auto& f : fields) per_node += f.second;
   std::vector<MPI_Request> requests;
   requests.reserve(2 * neighbours_.size());
   for (Neighbour& n : neighbours_) {
     if (n.recv.empty()) continue;
-    n.recv_buffer.resize(kPerNode * n.recv.size());
+    n.recv_buffer.resize(per_node * n.recv.size());
     requests.emplace_back();
     MPI_Irecv(n.recv_buffer.data(), static_cast<int>(n.recv_buffer.size()), MPI_DOUBLE, n.rank, 0,
               MPI_COMM_WORLD, &requests.back());
   }
   for (Neighbour& n : neighbours_) {
     if (n.send.empty()) continue;
-    n.send_buffer.resize(kPerNode * n.send.size());
+    n.send_buffer.resize(per_node * n.send.size());
     double* b = n.send_buffer.data();
-    for (vtkIdType i : n.send) {
-      for (int k = 0; k < 3; ++k) *b++ = x[3 * i + k];
-      for (int k = 0; k < 3; ++k) *b++ = v[3 * i + k];
-    }
+    for (vtkIdType i : n.send)
+      for (const auto& [field, width] : fields)
+        for (int k = 0; k < width; ++k) *b++ = field[width * i + k];
     requests.emplace_back();
     MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.rank, 0,
               MPI_COMM_WORLD, &requests.back());
@@ -123,10 +125,9 @@ void Halo::exchange(double* x, double* v) {
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   for (const Neighbour& n : neighbours_) {
     const double* b = n.recv_buffer.data();
-    for (vtkIdType i : n.recv) {
-      for (int k = 0; k < 3; ++k) x[3 * i + k] = *b++;
-      for (int k = 0; k < 3; ++k) v[3 * i + k] = *b++;
-    }
+    for (vtkIdType i : n.recv)
+      for (const auto& [field, width] : fields)
+        for (int k = 0; k < width; ++k) field[width * i + k] = *b++;
   }
 }
 
@@ -150,7 +151,25 @@ long Halo::max(long value) const {
   return value;
 }
 
-std::vector<double> Halo::gather_all(const std::vector<double>& mine) const {
+long Halo::sum(long value) const {
+  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return value;
+}
+
+std::string Halo::first_error(const std::string& mine) const {
+  int first = mine.empty() ? size_ : rank_;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first == size_) return {};
+  long length = static_cast<long>(mine.size());
+  MPI_Bcast(&length, 1, MPI_LONG, first, MPI_COMM_WORLD);
+  std::string text = mine;
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD);
+  return "rank " + std::to_string(first) + ": " + text;
+}
+
+std::vector<double> Halo::gather_all(const std::vector<double>& mine,
+                                     std::vector<int>* per_rank) const {
   int count = static_cast<int>(mine.size());
   std::vector<int> counts(size_), offsets(size_ + 1, 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
@@ -158,6 +177,7 @@ std::vector<double> Halo::gather_all(const std::vector<double>& mine) const {
   std::vector<double> all(offsets[size_]);
   MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
                  MPI_DOUBLE, MPI_COMM_WORLD);
+  if (per_rank) *per_rank = counts;
   return all;
 }
 
@@ -181,22 +201,47 @@ void Halo::sum(std::vector<ExactSum>& sums) const {
 }
 
 std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own, Grid& grid,
-                                            ForceAssembler& forces, Fracture& fracture) {
+                                            ForceAssembler& forces, Fracture& fracture,
+                                            const std::vector<CohesiveLink>& removed,
+                                            std::vector<GlobalFailure>& failures) {
   // This rank's splits made local nodes; they are named below in the global order.
   const vtkIdType before = static_cast<vtkIdType>(global_node_.size());
   global_node_.resize(grid.num_points(), -1);
   owned_.resize(grid.num_points(), 1);
-  // Wire format per split: sigma1, a, X (3), A_c, cell count, cells (doubles hold ids < 2^53).
-  std::vector<double> wire;
+  // Wire format: failure count, then per failure a, b, X (3), dissipated, A_c; per split:
+  // sigma1, a, X (3), A_c, cell count, cells (doubles hold ids < 2^53).
+  std::vector<double> wire{double(removed.size())};
+  for (const CohesiveLink& l : removed) {
+    const double* X = grid.X() + 3 * l.a;
+    wire.insert(wire.end(), {double(global_node_[l.a]), double(global_node_[l.b]), X[0], X[1],
+                             X[2], l.dissipated, l.A_c});
+  }
   for (const SplitRecord& r : own) {
     const double* X = grid.X() + 3 * r.a;
     wire.insert(wire.end(), {r.sigma1, double(global_node_[r.a]), X[0], X[1], X[2], r.A_c,
                              double(r.b_cells.size())});
     for (vtkIdType c : r.b_cells) wire.push_back(double(global_cell_[c]));
   }
-  const std::vector<double> all = gather_all(wire);
+  std::vector<int> counts;
+  const std::vector<double> all = gather_all(wire, &counts);
   std::vector<GlobalSplit> splits;
-  for (std::size_t i = 0; i < all.size();) {
+  failures.clear();
+  std::size_t rank_end = 0;
+  for (std::size_t i = 0, r = 0; i < all.size();) {
+    if (i == rank_end) {  // a rank's failures first
+      rank_end += counts[r++];
+      const std::size_t n = static_cast<std::size_t>(all[i++]);
+      for (std::size_t k = 0; k < n; ++k, i += 7) {
+        GlobalFailure f;
+        f.a = static_cast<vtkIdType>(all[i]);
+        f.b = static_cast<vtkIdType>(all[i + 1]);
+        std::copy(&all[i + 2], &all[i + 5], f.X);
+        f.dissipated = all[i + 5];
+        f.A_c = all[i + 6];
+        failures.push_back(f);
+      }
+      continue;
+    }
     GlobalSplit s;
     s.sigma1 = all[i];
     s.a = static_cast<vtkIdType>(all[i + 1]);
@@ -207,6 +252,9 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
     i += 7 + cells;
     splits.push_back(std::move(s));
   }
+  std::sort(failures.begin(), failures.end(), [](const GlobalFailure& p, const GlobalFailure& q) {
+    return std::tie(p.a, p.b, p.A_c) < std::tie(q.a, q.b, q.A_c);
+  });
   // The serial order (Fracture::candidates): decreasing sigma1, then node id.
   std::sort(splits.begin(), splits.end(), [](const GlobalSplit& p, const GlobalSplit& q) {
     return std::tie(q.sigma1, p.a) < std::tie(p.sigma1, q.a);

@@ -6,6 +6,9 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
+#include <utility>
+#include <string>
 #include <vector>
 
 #include "exact_sum.hpp"
@@ -22,6 +25,13 @@ struct GlobalSplit {
   double X[3] = {0, 0, 0};   ///< reference position of a
   double A_c = 0;
   std::vector<vtkIdType> b_cells;  ///< global cells that adopted b, ascending
+};
+
+/// A link that failed (omega reached 1), as every rank learns it.
+struct GlobalFailure {
+  vtkIdType a = -1, b = -1;  ///< global ids of its nodes
+  double X[3] = {0, 0, 0};   ///< reference position of a
+  double dissipated = 0, A_c = 0;
 };
 
 /// One rank's view of the decomposition and its messages (MPI_COMM_WORLD). Every call is
@@ -49,21 +59,37 @@ class Halo {
 
   /// Ghost nodes get their owners' x and v (non-blocking sends and receives, then a wait).
   void exchange(double* x, double* v);
+  /// Ghost nodes get their owners' velocity and mass (for output: between exchanges a ghost
+  /// holds the rate the viscosity saw, and the mass of this rank's cells only).
+  void refresh_for_output(double* v, double* mass);
   /// Smallest value over the ranks, with the global id that goes with it (the smaller id on
   /// ties): the stable step and the element that sets it.
   void min_with_id(double& value, vtkIdType& id) const;
   /// Largest value over the ranks.
   int max(int value) const;
   long max(long value) const;
+  /// Sum over the ranks.
+  long sum(long value) const;
+  /// The error of the lowest rank that has one, as "rank R: <error>"; empty if none has.
+  std::string first_error(const std::string& mine) const;
+  /// Nodes of the whole grid before any split, and its cells.
+  vtkIdType initial_nodes() const { return initial_nodes_; }
+  vtkIdType cells() const { return static_cast<vtkIdType>(cell_part_.size()); }
   /// Every rank's values, rank after rank (MPI_Allgatherv).
-  std::vector<double> gather_all(const std::vector<double>& mine) const;
+  /// `per_rank`, if given, gets each rank's count.
+  std::vector<double> gather_all(const std::vector<double>& mine,
+                                 std::vector<int>* per_rank = nullptr) const;
 
   /// The splits of this step on every rank, in the serial order (decreasing sigma1, then node
   /// id), with the serial ids of the new nodes. `own` are this rank's (local ids, from
   /// Fracture::split); the splits of other ranks are applied to the local copies of their
   /// nodes here (Fracture::apply_remote_split), and the send and receive lists follow.
+  /// `removed`: the links this rank removed this step; all ranks' come back in `failures`,
+  /// ordered by their nodes' global ids (the event catalogue's order within a step).
   std::vector<GlobalSplit> share_splits(const std::vector<SplitRecord>& own, Grid& grid,
-                                        ForceAssembler& forces, Fracture& fracture);
+                                        ForceAssembler& forces, Fracture& fracture,
+                                        const std::vector<CohesiveLink>& removed,
+                                        std::vector<GlobalFailure>& failures);
 
   /// Bytes this rank sent in exchange() so far, and the messages (tests, docs/parallel.md).
   std::uint64_t bytes_sent() const { return bytes_sent_; }
@@ -76,6 +102,8 @@ class Halo {
     std::vector<double> send_buffer, recv_buffer;
   };
   Neighbour& neighbour(int rank);
+  /// Owned nodes' values of the fields (pointer, values per node) to their ghost copies.
+  void send_ghosts(std::initializer_list<std::pair<double*, int>> fields);
   bool holds(vtkIdType global_cell, int rank) const;
 
   int rank_ = 0, size_ = 1;
@@ -90,7 +118,7 @@ class Halo {
   std::vector<std::uint8_t> owned_cell_;
   std::vector<int> node_owner_;                 ///< per global node
   std::vector<Neighbour> neighbours_;           ///< in increasing rank
-  vtkIdType global_nodes_ = 0;
+  vtkIdType global_nodes_ = 0, initial_nodes_ = 0;
   std::uint64_t bytes_sent_ = 0, messages_sent_ = 0;
 };
 

@@ -5,6 +5,8 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkXMLDataElement.h>
@@ -25,6 +27,7 @@
 #include <sstream>
 
 #include "crack_pattern.hpp"
+#include "halo.hpp"
 #include "sensors.hpp"
 #include "error.hpp"
 
@@ -234,6 +237,134 @@ void VtuSeriesWriter::on_resume(const Simulation& sim) {
     if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     if (std::stol(digits) >= keep) fs::remove(entry.path());
   }
+}
+
+namespace {
+
+/// The VTK XML name of an array's type (as the serial writers write it).
+std::string xml_type(vtkAbstractArray* a) {
+  switch (a->GetDataType()) {
+    case VTK_DOUBLE: return "Float64";
+    case VTK_FLOAT: return "Float32";
+    case VTK_UNSIGNED_CHAR: return "UInt8";
+    case VTK_CHAR: case VTK_SIGNED_CHAR: return "Int8";
+    case VTK_INT: return "Int32";
+    case VTK_LONG: case VTK_LONG_LONG: case VTK_ID_TYPE: return "Int64";
+    default: break;
+  }
+  throw Error(error_message("output: array '", a->GetName(), "' of VTK type ",
+                            a->GetDataTypeAsString(), " has no parallel XML name here"));
+}
+
+/// The <PDataArray> declarations of a piece's arrays.
+std::string declare_arrays(vtkFieldData* data) {
+  std::ostringstream out;
+  for (int i = 0; i < data->GetNumberOfArrays(); ++i) {
+    vtkAbstractArray* a = data->GetAbstractArray(i);
+    out << "      <PDataArray type=\"" << xml_type(a) << "\" Name=\"" << a->GetName()
+        << "\" NumberOfComponents=\"" << a->GetNumberOfComponents() << "\"/>\n";
+  }
+  return out.str();
+}
+
+/// A parallel XML summary (.pvtu / .pvtp) naming `pieces`, with the arrays of `piece`.
+std::string parallel_summary(const char* type, vtkDataSet* piece,
+                             const std::vector<std::string>& pieces) {
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"P" << type
+      << "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <P" << type
+      << " GhostLevel=\"0\">\n    <PPointData>\n"
+      << declare_arrays(piece->GetPointData()) << "    </PPointData>\n    <PCellData>\n"
+      << declare_arrays(piece->GetCellData()) << "    </PCellData>\n    <PPoints>\n"
+      << "      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+  for (const std::string& p : pieces) out << "    <Piece Source=\"" << p << "\"/>\n";
+  out << "  </P" << type << ">\n</VTKFile>\n";
+  return out.str();
+}
+
+/// This rank's piece of the grid: its own cells, their nodes, every array, the serial ids.
+vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& halo) {
+  vtkUnstructuredGrid* g = grid.vtk();
+  std::vector<vtkIdType> node(grid.num_points(), -1), nodes, cells;
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    if (!halo.owns_cell(e)) continue;
+    cells.push_back(e);
+    for (int k = 0; k < 4; ++k) {
+      const vtkIdType p = grid.cells()[4 * e + k];
+      if (node[p] < 0) node[p] = 0, nodes.push_back(p);
+    }
+  }
+  std::sort(nodes.begin(), nodes.end(), [&](vtkIdType p, vtkIdType q) {
+    return halo.global_node()[p] < halo.global_node()[q];  // the serial order
+  });
+  auto piece = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(nodes.size()));
+  piece->GetPointData()->CopyAllocate(g->GetPointData(), static_cast<vtkIdType>(nodes.size()));
+  auto global_node = vtkSmartPointer<vtkIdTypeArray>::New();
+  global_node->SetName("global_node");
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    node[nodes[i]] = static_cast<vtkIdType>(i);
+    points->SetPoint(static_cast<vtkIdType>(i), grid.x() + 3 * nodes[i]);
+    piece->GetPointData()->CopyData(g->GetPointData(), nodes[i], static_cast<vtkIdType>(i));
+    global_node->InsertNextValue(halo.global_node()[nodes[i]]);
+  }
+  piece->SetPoints(points);
+  piece->GetPointData()->AddArray(global_node);
+  auto connectivity = vtkSmartPointer<vtkCellArray>::New();
+  piece->GetCellData()->CopyAllocate(g->GetCellData(), static_cast<vtkIdType>(cells.size()));
+  auto global_cell = vtkSmartPointer<vtkIdTypeArray>::New();
+  global_cell->SetName("global_cell");
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const vtkIdType* c = grid.cells() + 4 * cells[i];
+    const vtkIdType ids[4] = {node[c[0]], node[c[1]], node[c[2]], node[c[3]]};
+    connectivity->InsertNextCell(4, ids);
+    piece->GetCellData()->CopyData(g->GetCellData(), cells[i], static_cast<vtkIdType>(i));
+    global_cell->InsertNextValue(halo.global_cell()[cells[i]]);
+  }
+  piece->SetCells(VTK_TETRA, connectivity);
+  piece->GetCellData()->AddArray(global_cell);
+  piece->GetFieldData()->ShallowCopy(g->GetFieldData());
+  return piece;
+}
+
+}  // namespace
+
+PieceSeriesWriter::PieceSeriesWriter(std::string directory, const Halo& halo)
+    : directory_(std::move(directory)),
+      halo_(halo),
+      grid_series_(directory_ + "/run.pvd"),
+      link_series_(directory_ + "/links.pvd") {
+  fs::create_directories(directory_ + "/frames");
+}
+
+void PieceSeriesWriter::on_frame(const Simulation& sim) {
+  std::ostringstream number;
+  number << std::setw(4) << std::setfill('0') << frames_++;
+  const std::string base = "frame_" + number.str(), links = "links_" + number.str();
+  const std::string piece = "_r" + std::to_string(halo_.rank());
+  const auto grid = grid_piece(sim.grid(), halo_);
+  write_vtu_file(*grid, directory_ + "/frames/" + base + piece + ".vtu");
+  vtkSmartPointer<vtkPolyData> lines;
+  if (sim.fracture().enabled()) {
+    lines = link_lines(sim);
+    write_xml(vtkSmartPointer<vtkXMLPolyDataWriter>::New(), lines,
+              directory_ + "/frames/" + links + piece + ".vtp");
+  }
+  if (halo_.rank() != 0) return;
+  std::vector<std::string> grid_pieces, link_pieces;
+  for (int r = 0; r < halo_.size(); ++r) {
+    grid_pieces.push_back(base + "_r" + std::to_string(r) + ".vtu");
+    link_pieces.push_back(links + "_r" + std::to_string(r) + ".vtp");
+  }
+  write_file_atomically(directory_ + "/frames/" + base + ".pvtu",
+                        parallel_summary("UnstructuredGrid", grid, grid_pieces));
+  grid_series_.add(sim.time(), "frames/" + base + ".pvtu");
+  if (!lines) return;
+  write_file_atomically(directory_ + "/frames/" + links + ".pvtp",
+                        parallel_summary("PolyData", lines, link_pieces));
+  link_series_.add(sim.time(), "frames/" + links + ".pvtp");
 }
 
 std::vector<PvdEntry> read_pvd(const std::string& path) {

@@ -50,6 +50,25 @@ class VtuSeriesWriter : public Observer {
   int frames_ = 0;
 };
 
+class Halo;
+
+/// A decomposed run's frames (docs/parallel.md): every rank writes its piece,
+/// <dir>/frames/frame_NNNN_rR.vtu (its own cells and their nodes, with the point array
+/// global_node and the cell array global_cell: the serial ids) and links_NNNN_rR.vtp (the
+/// links it owns); rank 0 writes frame_NNNN.pvtu and links_NNNN.pvtp, which name the pieces,
+/// and lists those in run.pvd and links.pvd. ParaView opens run.pvd as it opens a serial run's.
+class PieceSeriesWriter : public Observer {
+ public:
+  PieceSeriesWriter(std::string directory, const Halo& halo);
+  void on_frame(const Simulation& sim) override;
+
+ private:
+  std::string directory_;
+  const Halo& halo_;
+  PvdCollection grid_series_, link_series_;
+  int frames_ = 0;
+};
+
 /// <dir>/crack_tip.csv at the end of the run: t, tip x, tip y, splits, smoothed speed.
 class CrackTipCsvWriter : public Observer {
  public:

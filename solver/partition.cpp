@@ -3,10 +3,13 @@
 
 #include <metis.h>
 #include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkCellType.h>
 #include <vtkPoints.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "error.hpp"
@@ -167,6 +170,17 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
   part.mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   part.mesh->SetPoints(points);
   part.mesh->SetCells(VTK_TETRA, cells);
+  auto bounds = vtkSmartPointer<vtkDoubleArray>::New();  // region boxes (boundary.cpp)
+  bounds->SetName(kWholeBounds);
+  bounds->SetNumberOfComponents(6);
+  bounds->SetNumberOfTuples(1);
+  double* b = bounds->GetPointer(0);  // of the reference positions, as vtkDataSet::GetBounds
+  for (int d = 0; d < 3; ++d) b[2 * d] = INFINITY, b[2 * d + 1] = -INFINITY;
+  for (vtkIdType k = 0; k < n; ++k)
+    for (int d = 0; d < 3; ++d)
+      b[2 * d] = std::min(b[2 * d], grid.X()[3 * k + d]),
+      b[2 * d + 1] = std::max(b[2 * d + 1], grid.X()[3 * k + d]);
+  part.mesh->GetFieldData()->AddArray(bounds);
   return part;
 }
 

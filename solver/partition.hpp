@@ -49,6 +49,10 @@ struct LocalPart {
   std::vector<char> owned;                    ///< per local node: owned by this rank
 };
 
+/// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured
+/// against (solver/boundary.cpp).
+inline constexpr const char* kWholeBounds = "whole_mesh_bounds";
+
 /// The part `rank` of `partition` (grid: the whole grid, its reference positions X).
 LocalPart extract_part(const Grid& grid, const Partition& partition, int rank);
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 #include "checkpoint.hpp"
 #include "error.hpp"
@@ -148,25 +149,33 @@ void Simulation::step() {
   viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
-  const double* X = grid_.X();
-  for (const CohesiveLink& l : links_.removed())
-    events_.push_back({time_, X[3 * l.a], X[3 * l.a + 1], X[3 * l.a + 2],
-                       CrackEvent::Kind::link_failure, l.dissipated, l.A_c, l.a, l.b});
-  if (halo_) {  // every rank's splits, in the serial order, with the serial ids
-    if (fracture_.enabled())
-      global_splits_ = halo_->share_splits(r.splits, grid_, assembler_, fracture_);
-    for (const GlobalSplit& split : global_splits_) {
-      fronts_.on_split(time_, split.X[0], split.X[1]);
-      events_.push_back({time_, split.X[0], split.X[1], split.X[2], CrackEvent::Kind::split, 0.0,
-                         split.A_c, split.a, split.b});
+  // The events of the step, by global node ids: link failures ordered by their nodes, then
+  // splits in the splitting order. A decomposed run gathers every rank's.
+  std::vector<GlobalFailure> failures;
+  if (halo_ && fracture_.enabled()) {
+    global_splits_ = halo_->share_splits(r.splits, grid_, assembler_, fracture_, links_.removed(),
+                                         failures);
+  } else if (!halo_) {
+    const double* X = grid_.X();
+    for (const CohesiveLink& l : links_.removed())
+      failures.push_back({l.a, l.b, {X[3 * l.a], X[3 * l.a + 1], X[3 * l.a + 2]}, l.dissipated,
+                          l.A_c});
+    std::sort(failures.begin(), failures.end(), [](const GlobalFailure& p, const GlobalFailure& q) {
+      return std::tie(p.a, p.b, p.A_c) < std::tie(q.a, q.b, q.A_c);
+    });
+    global_splits_.clear();
+    for (const SplitRecord& split : r.splits) {
+      const double* p = X + 3 * split.a;
+      global_splits_.push_back({split.sigma1, split.a, split.b, {p[0], p[1], p[2]}, split.A_c, {}});
     }
   }
-  for (const SplitRecord& split : r.splits) {
-    if (halo_) break;
-    const double* p = X + 3 * split.a;
-    fronts_.on_split(time_, p[0], p[1]);
-    events_.push_back({time_, p[0], p[1], p[2], CrackEvent::Kind::split, 0.0, split.A_c, split.a,
-                       split.b});
+  for (const GlobalFailure& f : failures)
+    events_.push_back({time_, f.X[0], f.X[1], f.X[2], CrackEvent::Kind::link_failure,
+                       f.dissipated, f.A_c, f.a, f.b});
+  for (const GlobalSplit& split : global_splits_) {
+    fronts_.on_split(time_, split.X[0], split.X[1]);
+    events_.push_back({time_, split.X[0], split.X[1], split.X[2], CrackEvent::Kind::split, 0.0,
+                       split.A_c, split.a, split.b});
   }
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
@@ -249,6 +258,7 @@ Energies Simulation::energies() const {
 }
 
 void Simulation::update_output_fields() {
+  if (halo_) halo_->refresh_for_output(grid_.v(), grid_.mass());  // ghosts as their owners
   grid_.update_displacement();
   const double* s = grid_.stress();
   double* sigma1 = grid_.sigma1_over_sigmac();
@@ -387,15 +397,33 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     clock.lap(own_times_.output);
   };
   auto stop_requested = [this]() { return stop_flag_ && stop_flag_->load() != 0; };
+  // A decomposed run agrees before every step: a stop asked on any rank stops all, and a
+  // writer that failed on one rank fails the run on all (the first rank's error is named).
+  std::string local_error;
+  auto agreed = [&](bool stop) {
+    if (!halo_) return stop;
+    const std::string first = halo_->first_error(local_error);
+    if (!first.empty()) throw Error(first);
+    return halo_->max(stop ? 1 : 0) != 0;
+  };
+  auto emit_here = [&]() {
+    if (!halo_) return emit();
+    try {  // kept for the agreement above; collectives inside emit() ran on every rank
+      return emit();
+    } catch (const std::exception& e) {
+      if (local_error.empty()) local_error = e.what();
+      return false;
+    }
+  };
 
   if (resumed_)
     for (Observer* o : observers) o->on_resume(*this);
   for (Observer* o : observers) o->on_start(*this);
   try {
-    bool frame_now = resumed_ ? false : emit();
+    bool frame_now = resumed_ ? false : emit_here();
     bool interrupted = false;
     while (time_ < scene_.run.end_time - 0.5 * dt_) {
-      if (stop_requested()) {
+      if (agreed(stop_requested())) {
         interrupted = true;
         break;
       }
@@ -404,16 +432,18 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       p.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       for (const std::string& w : take_step_warnings()) warn(w);
       for (Observer* o : observers) o->on_step(*this);
-      frame_now = emit();
+      frame_now = emit_here();
       if (checkpoint_interval > 0 && due(p.next_checkpoint)) {
         checkpoint();
         while (due(p.next_checkpoint)) p.next_checkpoint += checkpoint_interval;
       }
     }
+    agreed(false);  // a writer's failure at the last row or frame
     if (interrupted) {
       // The checkpoint holds the progress without the last frame below: a resumed run writes
-      // its frames as the uninterrupted run would (the writers drop the extra one).
-      checkpoint();
+      // its frames as the uninterrupted run would (the writers drop the extra one). A
+      // decomposed run writes no checkpoint (docs/parallel.md).
+      if (!halo_) checkpoint();
       if (!frame_now) {
         update_output_fields();
         for (Observer* o : observers) o->on_frame(*this);
@@ -421,7 +451,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       }
       summary.status = "interrupted";
     } else {
-      if (checkpoint_interval > 0 && (summary.checkpoint.empty() || summary.checkpoint_time != time_))
+      if (checkpoint_interval > 0 && !halo_ &&
+          (summary.checkpoint.empty() || summary.checkpoint_time != time_))
         checkpoint();  // so that the run can be extended (--resume with a later run.end_time)
       summary.status = "completed";
     }
@@ -435,11 +466,20 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.time = time_;
   summary.steps = steps_;
   summary.wall_seconds = wall;
-  summary.tet_updates_per_second = wall > 0 ? double(steps_) * grid_.num_cells() / wall : 0.0;
   summary.final_energies = energies();
   summary.splits = fracture_.splits();
   summary.crack_area = fracture_.crack_area();
   summary.live_links = static_cast<long>(links_.links().size());
+  if (halo_) {  // the whole grid's counts (wall times are this rank's)
+    summary.nodes = halo_->initial_nodes();
+    summary.tets = halo_->cells();
+    long fixed = 0;
+    for (vtkIdType i = 0; i < initial_points_; ++i)
+      fixed += halo_->owned()[i] && (grid_.fixed()[i] & 7) != 0;
+    summary.fixed_nodes = halo_->sum(fixed);
+    summary.live_links = halo_->sum(summary.live_links);
+  }
+  summary.tet_updates_per_second = wall > 0 ? double(steps_) * summary.tets / wall : 0.0;
   summary.final_dt = dt_;
   summary.dt_reductions = dt_reductions_;
   summary.substep_cap_steps = substep_cap_steps_;

@@ -154,7 +154,10 @@ class Simulation {
   /// owners, dt and the crack-front distances are those of the whole grid, and splits are
   /// shared. Collective. Owned nodes and cells then step with the serial run's bits.
   void decompose(Halo& halo);
-  /// The splits of the last step on every rank, in the serial order (decomposed runs).
+  /// This rank's decomposition, or null (a serial run).
+  const Halo* halo() const { return halo_; }
+  /// The splits of the last step (on every rank of a decomposed run), in the splitting order,
+  /// with global node ids.
   const std::vector<GlobalSplit>& last_global_splits() const { return global_splits_; }
 
   /// A flag the run polls after every step (set by a signal handler: app/main.cpp).
