@@ -92,7 +92,8 @@ void Grid::state(Ar& ar) {
 
 template <class Ar>
 void ForceAssembler::state(Ar& ar) {
-  io_all(ar, blocks_, force_, element_force_, viscous_power_, block_power_, volume_, sigma1_bound_,
+  io_all(ar, blocks_, force_, element_force_, viscous_power_, viscous_work_, block_power_, volume_,
+         sigma1_bound_,
          alpha1_, node_start_, node_end_, node_entries_);
 }
 
@@ -126,7 +127,7 @@ void Boundary::state(Ar& ar) {
 template <class Ar>
 void Simulation::state(Ar& ar) {
   io_all(ar, time_, dt_, initial_dt_, steps_, dt_reductions_, substep_cap_steps_,
-         viscous_dissipated_, damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
+         damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
          events_, progress_);
   io_all(ar, grid_, assembler_, links_, fracture_, damage_, boundary_);
   if constexpr (Ar::loading) {

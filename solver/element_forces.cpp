@@ -133,6 +133,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       blocks_((grid.num_cells() + kLanes - 1) / kLanes),
       element_force_(12 * grid.num_cells(), 0.0),
       viscous_power_(kLanes * blocks_.size(), 0.0),
+      viscous_work_(kLanes * blocks_.size(), 0.0),
       block_power_(blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
       sigma1_bound_(kLanes * blocks_.size(), 0.0),
@@ -450,19 +451,28 @@ void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor)
   sigma1_bound_[e] *= factor;
 }
 
-void ForceAssembler::add_viscous_work(const Grid& grid, ExactSum& work, double dt,
-                                      const std::uint8_t* counted) const {
+void ForceAssembler::accumulate_viscous_work(const Grid& grid, double dt) {
   const vtkIdType ne = grid.num_cells();
   const double* vp = viscous_power_.data();
+  double* work = viscous_work_.data();
+#pragma omp parallel for schedule(static)
+  for (vtkIdType e = 0; e < ne; ++e) work[e] += dt * vp[e];
+}
+
+ExactSum ForceAssembler::viscous_work(const Grid& grid, const std::uint8_t* counted) const {
+  const vtkIdType ne = grid.num_cells();
+  const double* work = viscous_work_.data();
+  ExactSum total;
 #pragma omp parallel
   {
     ExactSum mine;
 #pragma omp for schedule(static) nowait
     for (vtkIdType e = 0; e < ne; ++e)
-      if (!counted || counted[e]) mine += dt * vp[e];
+      if (!counted || counted[e]) mine += work[e];
 #pragma omp critical
-    work += mine;  // exact: the order of the threads does not matter
+    total += mine;  // exact: the order of the threads does not matter
   }
+  return total;
 }
 
 double ForceAssembler::viscous_power() const {

@@ -116,10 +116,12 @@ class ForceAssembler {
 
   /// Sum over elements of the viscous power from the last compute() (deterministic order).
   double viscous_power() const;
-  /// Adds dt x the viscous power of every element (of those with counted[e] != 0, if given)
-  /// to `work`, exactly: the same bits for any thread or rank count.
-  void add_viscous_work(const Grid& grid, ExactSum& work, double dt,
-                        const std::uint8_t* counted) const;
+  /// Adds dt x its viscous power to every element's viscous work (one running sum per
+  /// element: the same bits for any thread or rank count).
+  void accumulate_viscous_work(const Grid& grid, double dt);
+  /// The elements' viscous work so far (of those with counted[e] != 0, if given), summed
+  /// exactly (solver/exact_sum.hpp).
+  ExactSum viscous_work(const Grid& grid, const std::uint8_t* counted) const;
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper
   /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds
@@ -171,6 +173,7 @@ class ForceAssembler {
   std::vector<double> force_;           // 3 per point: the gathered nodal forces
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
   std::vector<double> viscous_power_;   // 1 per element
+  std::vector<double> viscous_work_;    // 1 per element: integral of its viscous power
   std::vector<double> block_power_;     // 1 per block: its elements' viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element

@@ -144,7 +144,7 @@ StepReport Integrator::step(double t, double dt) {
   if (r.bad_element >= 0) return r;
   // A decomposed run counts the cells it owns (the ghost cells are counted by their owners).
   const std::uint8_t* counted = halo_ ? halo_->owned_cells().data() : nullptr;
-  forces_.add_viscous_work(grid_, r.viscous_dissipated, dt, counted);
+  forces_.accumulate_viscous_work(grid_, dt);
   if (damage_.enabled())  // Omega(n+1) (5.2)-(5.3); F(n+1) brought to it
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt, counted);
   clock.lap(times_.damage);

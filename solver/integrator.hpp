@@ -78,7 +78,6 @@ class PhaseClock {
 
 /// What one step did, for the simulation's bookkeeping and warnings.
 struct StepReport {
-  ExactSum viscous_dissipated;   ///< dt * viscous power of the step, element by element
   ExactSum damage_dissipated;    ///< energy the damage update dissipated (5.1)
   int substeps = 0;               ///< link sub-steps used (0 without links)
   bool substeps_capped = false;   ///< the links needed more than CohesiveLinks::max_substeps

@@ -7,11 +7,21 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
 #include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -148,22 +158,86 @@ std::string read_isolated(const std::string& what, const std::string& reader,
   return bytes.substr(1);
 }
 
+namespace {
+
+/// The pieces of a decomposed run's frame as the serial run's grid: a node shared by pieces
+/// once, nodes and cells in the serial order (their global_node / global_cell arrays), so that
+/// piece boundaries are not seen as crack faces and frames render as the serial ones.
+vtkSmartPointer<vtkUnstructuredGrid> joined_by_serial_ids(vtkUnstructuredGrid& g,
+                                                          const std::string& what) {
+  vtkDataArray* nodes = g.GetPointData()->GetArray("global_node");
+  vtkDataArray* cells = g.GetCellData()->GetArray("global_cell");
+  if (!nodes || !cells) return vtkSmartPointer<vtkUnstructuredGrid>(&g);
+  const vtkIdType np = g.GetNumberOfPoints(), nc = g.GetNumberOfCells();
+  vtkIdType most = -1;
+  for (vtkIdType p = 0; p < np; ++p) most = std::max(most, static_cast<vtkIdType>(nodes->GetTuple1(p)));
+  BRITTLE_CHECK(most >= 0 && most < np, what, ": global_node ids out of range (expected ids "
+                "below the pieces' ", np, " points)");
+  std::vector<vtkIdType> first(most + 1, -1);  // serial node -> a point holding it
+  for (vtkIdType p = 0; p < np; ++p) {
+    const auto id = static_cast<vtkIdType>(nodes->GetTuple1(p));
+    BRITTLE_CHECK(id >= 0, what, ": negative global_node id");
+    if (first[id] < 0) first[id] = p;
+  }
+  std::vector<vtkIdType> order(nc);  // cells by serial id
+  for (vtkIdType c = 0; c < nc; ++c) order[c] = c;
+  std::sort(order.begin(), order.end(), [&](vtkIdType a, vtkIdType b) {
+    return cells->GetTuple1(a) < cells->GetTuple1(b);
+  });
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(most + 1);
+  out->GetPointData()->CopyAllocate(g.GetPointData(), most + 1);
+  for (vtkIdType id = 0; id <= most; ++id) {
+    BRITTLE_CHECK(first[id] >= 0, what, ": node ", id, " is in no piece");
+    points->SetPoint(id, g.GetPoint(first[id]));
+    out->GetPointData()->CopyData(g.GetPointData(), first[id], id);
+  }
+  out->SetPoints(points);
+  auto connectivity = vtkSmartPointer<vtkCellArray>::New();
+  out->GetCellData()->CopyAllocate(g.GetCellData(), nc);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < nc; ++c) {
+    g.GetCellPoints(order[c], ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      ids->SetId(k, static_cast<vtkIdType>(nodes->GetTuple1(ids->GetId(k))));
+    connectivity->InsertNextCell(ids);
+    out->GetCellData()->CopyData(g.GetCellData(), order[c], c);
+  }
+  out->SetCells(VTK_TETRA, connectivity);
+  out->GetFieldData()->ShallowCopy(g.GetFieldData());
+  out->GetPointData()->RemoveArray("global_node");
+  out->GetCellData()->RemoveArray("global_cell");
+  return out;
+}
+
+}  // namespace
+
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
                                                        const std::string& what) {
   std::error_code ec;
   BRITTLE_CHECK(std::filesystem::is_regular_file(path, ec), what, " '", path, "' does not exist");
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  // A decomposed run's frame (.pvtu) names its pieces: VTK's parallel reader joins them.
+  const bool pieces = path.ends_with(".pvtu");
   const std::string bytes = read_isolated(
-      what + " '" + path + "'", "VTK reader", "a VTK XML unstructured grid (.vtu)", size,
-      [&](StateWriter& w) {
-        vtkNew<vtkXMLUnstructuredGridReader> reader;
+      what + " '" + path + "'", "VTK reader",
+      pieces ? "a VTK XML parallel unstructured grid (.pvtu) and its pieces"
+             : "a VTK XML unstructured grid (.vtu)",
+      size, [&](StateWriter& w) {
+        vtkSmartPointer<vtkXMLReader> reader;
+        if (pieces)
+          reader = vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New();
+        else
+          reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
         vtkNew<VtkErrorFlag> failed;
         reader->AddObserver(vtkCommand::ErrorEvent, failed);
         if (!reader->CanReadFile(path.c_str()))
           throw std::runtime_error("not a VTK XML unstructured grid");
         reader->SetFileName(path.c_str());
         reader->Update();
-        vtkUnstructuredGrid* grid = reader->GetOutput();
+        vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(reader->GetOutputDataObject(0));
         if (failed->failed || !grid || grid->GetNumberOfCells() == 0)
           throw std::runtime_error("the VTK reader found no cells or reported an error");
         vtkNew<vtkXMLUnstructuredGridWriter> writer;  // back to the parent in VTK's own form
@@ -186,7 +260,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
   auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
   copy->ShallowCopy(reader->GetOutput());
   BRITTLE_CHECK(copy->GetNumberOfCells() > 0, what, " '", path, "' has no cells");
-  return copy;
+  return pieces ? joined_by_serial_ids(*copy, what + " '" + path + "'") : copy;
 }
 
 std::string escape_control(const std::string& text) {

@@ -146,7 +146,6 @@ void Simulation::step() {
                               " inverted or NaN; try a smaller run.cfl"));
   }
   PhaseClock clock;
-  viscous_dissipated_ += r.viscous_dissipated;
   damage_dissipated_ += r.damage_dissipated;
   time_ += dt_;
   // The events of the step, by global node ids: link failures ordered by their nodes, then
@@ -237,7 +236,7 @@ Energies Simulation::energies() const {
       elastic += w;
     }
   }
-  sums[2] = viscous_dissipated_;
+  sums[2] = assembler_.viscous_work(grid_, owned_cell);
   sums[3] = links_.stored_energy_sum();
   sums[4] = links_.dissipated_energy_sum();
   sums[5] = damage_dissipated_;

@@ -243,7 +243,7 @@ class Simulation {
   CrackFronts fronts_;
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
-  ExactSum viscous_dissipated_, damage_dissipated_;
+  ExactSum damage_dissipated_;  // (the viscous work is kept per element: ForceAssembler)
   double initial_energy_ = 0;
   mutable double energy_reference_ = 0;  // running max of kinetic + elastic (energies())
   std::vector<std::string> step_warnings_;

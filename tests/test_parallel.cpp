@@ -342,7 +342,7 @@ Frame last_frame(const fs::path& run, int ranks) {
 /// `mpirun -np 1, 2, 3 brittle run` writes what the serial run writes, bit for bit: every CSV,
 /// events, pattern, summary (timings aside) and the last frame's points, cells and arrays (put
 /// together from the pieces by serial id), for a straight crack and for branching with damage
-/// and rate-dependent links on CM.
+/// and rate-dependent links on CM; `brittle render` of the .pvd gives the serial PNGs.
 TEST(Mpi, DecomposedRunWritesTheSerialFiles) {
   TempDir dir;
   const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
@@ -384,6 +384,23 @@ TEST(Mpi, DecomposedRunWritesTheSerialFiles) {
       for (const auto& [array, values] : expected.point) EXPECT_EQ(got.point.at(array), values) << array;
       EXPECT_EQ(got.cell.size(), expected.cell.size());
       for (const auto& [array, values] : expected.cell) EXPECT_EQ(got.cell.at(array), values) << array;
+      // brittle render joins the pieces into the serial grid: the same PNGs, crack frames too
+      // (a piece boundary is not a crack)
+      for (const fs::path& run : {serial, out})
+        ASSERT_EQ(shell(quote(BRITTLE_EXE) + " render " + quote((run / "run.pvd").string()) +
+                            " --field crack --field sigma1 --times 10e-6 --out " +
+                            quote((run / "png").string()),
+                        dir / "render.log"),
+                  0)
+            << read_text(dir / "render.log");
+      int pngs = 0;
+      for (const auto& png : fs::directory_iterator(serial / "png")) {
+        ++pngs;
+        EXPECT_EQ(read_text(png.path()), read_text(out / "png" / png.path().filename()))
+            << png.path().filename();
+      }
+      EXPECT_EQ(pngs, 2);
+      fs::remove_all(serial / "png");
     }
   }
 }
