@@ -60,18 +60,10 @@ void write_partition_vtu(const Grid& grid, const Partition& p, const std::string
 
 int g_decomposed_rank = -1;  ///< this process's rank in a decomposed run
 
-/// Throws on every rank the error of the lowest rank that has one (`mine`, empty if none):
-/// ranks that fail alone must not leave the others waiting in a collective.
+/// Throws on every rank the error of the lowest rank that has one (brittle::first_error).
 void agree(const std::string& mine) {
-  int first = mine.empty() ? mpi_size() : mpi_rank();
-  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  if (first == mpi_size()) return;
-  long length = static_cast<long>(mine.size());
-  MPI_Bcast(&length, 1, MPI_LONG, first, MPI_COMM_WORLD);
-  std::string text = mine;
-  text.resize(length);
-  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD);
-  throw Error(first == 0 ? text : "rank " + std::to_string(first) + ": " + text);
+  const std::string first = first_error(mine);
+  if (!first.empty()) throw Error(first);
 }
 
 /// Runs `f` on this rank and agrees on its outcome over the ranks (agree).

@@ -156,16 +156,19 @@ long Halo::sum(long value) const {
   return value;
 }
 
-std::string Halo::first_error(const std::string& mine) const {
-  int first = mine.empty() ? size_ : rank_;
+std::string Halo::first_error(const std::string& mine) const { return brittle::first_error(mine); }
+
+std::string first_error(const std::string& mine) {
+  const int rank = comm_rank(), size = comm_size();
+  int first = mine.empty() ? size : rank;
   MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  if (first == size_) return {};
+  if (first == size) return {};
   long length = static_cast<long>(mine.size());
   MPI_Bcast(&length, 1, MPI_LONG, first, MPI_COMM_WORLD);
   std::string text = mine;
   text.resize(length);
   MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD);
-  return "rank " + std::to_string(first) + ": " + text;
+  return first == 0 ? text : "rank " + std::to_string(first) + ": " + text;
 }
 
 std::vector<double> Halo::gather_all(const std::vector<double>& mine,

@@ -34,6 +34,11 @@ struct GlobalFailure {
   double dissipated = 0, A_c = 0;
 };
 
+/// The error of the lowest rank that has one (`mine`: this rank's, empty if none), as
+/// "rank R: <error>" (rank 0's as it is); empty if no rank has one. Collective over
+/// MPI_COMM_WORLD: a rank that fails alone must not leave the others waiting.
+std::string first_error(const std::string& mine);
+
 /// One rank's view of the decomposition and its messages (MPI_COMM_WORLD). Every call is
 /// collective: all ranks make the same calls in the same order.
 class Halo {
@@ -70,7 +75,7 @@ class Halo {
   long max(long value) const;
   /// Sum over the ranks.
   long sum(long value) const;
-  /// The error of the lowest rank that has one, as "rank R: <error>"; empty if none has.
+  /// brittle::first_error over this run's ranks.
   std::string first_error(const std::string& mine) const;
   /// Nodes of the whole grid before any split, and its cells.
   vtkIdType initial_nodes() const { return initial_nodes_; }

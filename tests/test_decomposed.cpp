@@ -152,7 +152,9 @@ Scene branching_scene() {
 TEST(Decomposed, BranchingDamageRateDependentLinksHaveTheSerialBits) {
   const Crossings c = expect_serial_bits(branching_scene(), 4, 350);
   EXPECT_GT(c.splits, 100);
-  if (ranks() > 1) EXPECT_GT(c.shared, 0) << "the crack should reach a partition boundary";
+  if (ranks() > 1) {
+    EXPECT_GT(c.shared, 0) << "the crack should reach a partition boundary";
+  }
 }
 
 /// ... on parts cut across the crack's path: stripes 2 mm wide in x, dealt to the ranks in
@@ -179,6 +181,26 @@ TEST(Decomposed, CrackCrossingPartitionsManyTimesHasTheSerialBits) {
               << " of nodes whose cells lie in more than one part\n";
 }
 
+/// The same mechanisms on a 1 mm plate with 3 mm stripes, short: cheap enough to run under
+/// the sanitizers (CI's debug build runs this one only).
+TEST(Decomposed, CoarseBranchingRunHasTheSerialBits) {
+  Scene s = branching_scene();
+  s.mesh.size = 1e-3;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  const Grid whole(*mesh);
+  std::vector<int> cell_part(whole.num_cells(), 0);
+  for (vtkIdType e = 0; e < whole.num_cells(); ++e) {
+    double x = 0;
+    for (int k = 0; k < 4; ++k) x += 0.25 * whole.X()[3 * whole.cells()[4 * e + k]];
+    cell_part[e] = static_cast<int>(std::floor(x / 3e-3)) % ranks();
+  }
+  const Crossings c = expect_serial_bits(s, 2, 150, std::move(cell_part));
+  EXPECT_GT(c.splits, 10);
+  if (ranks() > 1) {
+    EXPECT_GT(c.shared, 0) << "the crack should split nodes on partition boundaries";
+  }
+}
+
 /// Parts cut by hand along the crack plane: cells above y = 0 in part 0, below in the others
 /// (split at x = L/2 for 3 ranks). The boundary runs through the notch tip and along the whole
 /// straight crack: every split is of a node whose cells lie in two parts.
@@ -197,7 +219,9 @@ TEST(Decomposed, PartitionBoundaryThroughTheNotchTip) {
   }
   const Crossings c = expect_serial_bits(s, 3, 400, std::move(cell_part));
   EXPECT_GT(c.splits, 20);
-  if (ranks() > 1) EXPECT_EQ(c.shared, c.splits) << "every split should be on the boundary";
+  if (ranks() > 1) {
+    EXPECT_EQ(c.shared, c.splits) << "every split should be on the boundary";
+  }
 }
 
 }  // namespace
