@@ -173,6 +173,9 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     if (rank != 0) return;
     std::error_code ec;  // an earlier serial run's checkpoint is not this run's state
     std::filesystem::remove(checkpoint_path(dir), ec);
+    if (const int n = remove_earlier_frames(dir))
+      std::fprintf(stderr, "brittle: removed %d frame files of an earlier run from %s/frames\n", n,
+                   dir.c_str());
     writers.push_back(std::make_unique<EnergyCsvWriter>(dir, false));
     if (sim->fracture().enabled()) {
       writers.push_back(std::make_unique<CrackTipCsvWriter>(dir));

@@ -26,7 +26,13 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
   // run), nor is a half-written one (a run killed while writing it).
   const std::string checkpoint = checkpoint_path(scene.output.directory);
   std::error_code ec;
-  if (!sim.resumed()) std::filesystem::remove(checkpoint, ec);
+  if (!sim.resumed()) {
+    std::filesystem::remove(checkpoint, ec);
+    // An earlier, longer run's frames would stay beside this run's, listed nowhere.
+    if (const int n = remove_earlier_frames(scene.output.directory))
+      std::fprintf(stderr, "brittle: removed %d frame files of an earlier run from %s/frames\n", n,
+                   scene.output.directory.c_str());
+  }
   std::filesystem::remove(checkpoint + ".tmp", ec);
   OutputWriters writers(sim);
   std::vector<Observer*> observers = writers.observers();

@@ -71,7 +71,8 @@ Grid::Grid(vtkUnstructuredGrid& reference_mesh) {
   add_array<vtkDoubleArray>(pd, field::mass, 1, np);
   add_array<vtkUnsignedCharArray>(pd, field::fixed, 1, np);
   add_array<vtkUnsignedCharArray>(pd, field::crack, 1, np);
-  pd->SetActiveVectors(field::displacement);
+  // No active vectors: the points are the deformed positions already, and ParaView's Warp By
+  // Vector on the active `displacement` would add u a second time (docs/output.md).
 
   auto* cd = grid_->GetCellData();
   add_array<vtkDoubleArray>(cd, field::damage, 1, nc);

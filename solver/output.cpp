@@ -25,6 +25,7 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "crack_pattern.hpp"
 #include "halo.hpp"
@@ -331,6 +332,35 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& ha
 
 }  // namespace
 
+int remove_earlier_frames(const std::string& dir) {
+  const fs::path frames = fs::path(dir) / "frames";
+  std::error_code ec;
+  if (!fs::is_directory(frames, ec)) return 0;
+  auto digits = [](const std::string& s) {
+    return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+  };
+  // frame_NNNN[_rR].vtu, frame_NNNN.pvtu, links_NNNN[_rR].vtp, links_NNNN.pvtp
+  auto ours = [&](const std::string& name) {
+    for (const auto& [prefix, ext, pext] :
+         {std::tuple{"frame_", ".vtu", ".pvtu"}, std::tuple{"links_", ".vtp", ".pvtp"}}) {
+      if (!name.starts_with(prefix)) continue;
+      std::string rest = name.substr(std::string(prefix).size());
+      if (rest.ends_with(pext)) return digits(rest.substr(0, rest.size() - std::string(pext).size()));
+      if (!rest.ends_with(ext)) return false;
+      rest.resize(rest.size() - std::string(ext).size());
+      const std::size_t r = rest.find("_r");
+      return r == std::string::npos ? digits(rest) : digits(rest.substr(0, r)) && digits(rest.substr(r + 2));
+    }
+    return false;
+  };
+  int removed = 0;
+  for (const auto& entry : fs::directory_iterator(frames, ec))
+    if (entry.is_regular_file(ec) && ours(entry.path().filename().string()) &&
+        fs::remove(entry.path(), ec))
+      ++removed;
+  return removed;
+}
+
 PieceSeriesWriter::PieceSeriesWriter(std::string directory, const Halo& halo)
     : directory_(std::move(directory)),
       halo_(halo),
@@ -478,6 +508,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
     return number(v);
   };
   j["scene_sources"] = sim.scene().sources;
+  j["brittle_version"] = BRITTLE_VERSION;
   j["nodes"] = s.nodes;
   j["tets"] = s.tets;
   j["fixed_nodes"] = s.fixed_nodes;

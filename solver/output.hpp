@@ -52,6 +52,11 @@ class VtuSeriesWriter : public Observer {
 
 class Halo;
 
+/// Removes from <dir>/frames what an earlier run there wrote and a new run would not replace:
+/// files named as the frame writers name theirs (frame_NNNN.vtu / .pvtu, frame_NNNN_rR.vtu,
+/// links_NNNN.vtp / .pvtp, links_NNNN_rR.vtp). Any other file stays. Returns how many went.
+int remove_earlier_frames(const std::string& dir);
+
 /// A decomposed run's frames (docs/parallel.md): every rank writes its piece,
 /// <dir>/frames/frame_NNNN_rR.vtu (its own cells and their nodes, with the point array
 /// global_node and the cell array global_cell: the serial ids) and links_NNNN_rR.vtp (the

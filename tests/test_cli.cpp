@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -841,6 +843,43 @@ TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
   const Result big = run_brittle(dir, {"run", file, "--dry-run", "--set", "mesh.size=1e-9"});
   EXPECT_EQ(big.exit_code, 2);
   EXPECT_TRUE(contains(big.err, "mesh.max_elements")) << big.err;
+}
+
+// A run into a directory an earlier, longer run used removes that run's frames (and says so)
+// and leaves every other file there as it was.
+TEST(Executable, ARunRemovesAnEarlierRunsFramesOnly) {
+  TempDir dir;
+  const std::string file = dir.write("plate.ini", std::string(kLoad) +
+                                                      "[mesh]\nsize = 2e-3\n[run]\nend_time = 2e-6\n");
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run_brittle(dir, {"run", file, "--out", out.string(), "--set", "run.end_time=4e-6"})
+                .exit_code,
+            0);
+  const int longer = static_cast<int>(
+      std::distance(fs::directory_iterator(out / "frames"), fs::directory_iterator()));
+  for (const char* mine : {"notes.txt", "frame_final.vtu", "frame_0001.vtu.bak", "links_x.vtp"})
+    std::ofstream(out / "frames" / mine) << "the user's\n";
+  std::ofstream(out / "frames" / "frame_0099_r3.vtu") << "an earlier decomposed run's piece\n";
+  const Result r = run_brittle(dir, {"run", file, "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "removed " + std::to_string(longer + 1) + " frame files of an earlier run"))
+      << r.err;
+  for (const char* mine : {"notes.txt", "frame_final.vtu", "frame_0001.vtu.bak", "links_x.vtp"})
+    EXPECT_EQ(read_text(out / "frames" / mine), "the user's\n") << mine;
+  EXPECT_FALSE(fs::exists(out / "frames" / "frame_0099_r3.vtu"));
+  // what is left is this run's frames (listed in run.pvd and links.pvd) and the user's files
+  std::set<std::string> listed;
+  for (const char* pvd : {"run.pvd", "links.pvd"})
+    if (fs::exists(out / pvd))
+      for (const brittle::PvdEntry& e : brittle::read_pvd((out / pvd).string()))
+        listed.insert(fs::path(e.file).filename().string());
+  EXPECT_FALSE(listed.empty());
+  for (const auto& entry : fs::directory_iterator(out / "frames")) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_TRUE(listed.count(name) || name == "notes.txt" || name == "frame_final.vtu" ||
+                name == "frame_0001.vtu.bak" || name == "links_x.vtp")
+        << name << " is left from the earlier run";
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
