@@ -20,6 +20,7 @@
 #include "output.hpp"
 #include "parallel.hpp"
 #include "paths.hpp"
+#include "scene_options.hpp"
 #include "stop_signal.hpp"
 
 namespace fs = std::filesystem;
@@ -137,19 +138,27 @@ void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& poi
 
 std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
   BRITTLE_CHECK(!o.scenes.empty(), "brittle sweep: no scene file given");
-  fs::create_directories(o.out);
   std::vector<ChildRun> runs;
   for (const double load : o.loads) {
     ChildRun run;
     run.directory = o.out + "/load_" + load_label(load);
+    std::vector<std::string> sets = o.sets;
+    sets.insert(sets.end(), {"loading.sigma_over_sigmac=" + load_label(load), "run.threads=1"});
+    if (!o.frames) sets.push_back("output.vtu=false");
+    // Every run's scene is loaded and checked before anything starts or is written: a bad
+    // file or key is one error now, not one failed run per load.
+    try {
+      load_scene(o.scenes, sets);
+    } catch (const Error& e) {
+      throw Error(error_message("brittle sweep: load ", load_label(load), ": ", e.what()));
+    }
     run.args = {"run"};
     run.args.insert(run.args.end(), o.scenes.begin(), o.scenes.end());
-    for (const std::string& s : o.sets) run.args.insert(run.args.end(), {"--set", s});
-    run.args.insert(run.args.end(), {"--set", "loading.sigma_over_sigmac=" + load_label(load),
-                                     "--set", "run.threads=1", "--out", run.directory});
-    if (!o.frames) run.args.insert(run.args.end(), {"--set", "output.vtu=false"});
+    for (const std::string& s : sets) run.args.insert(run.args.end(), {"--set", s});
+    run.args.insert(run.args.end(), {"--out", run.directory});
     runs.push_back(std::move(run));
   }
+  fs::create_directories(o.out);
   const std::vector<bool> started = run_children(runs, o.jobs);
   std::vector<SweepPoint> points;
   for (std::size_t i = 0; i < runs.size(); ++i) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -158,37 +160,36 @@ TEST(Sweep, ReadRunReadsWhatTheSummaryWriterWrites) {
   EXPECT_TRUE(std::isnan(p.r2));
 }
 
-// A sweep in which one run fails still writes sweep.csv with a row for every load: the failed
-// run keeps its load and its status, what it never wrote is nan; the command exits 2.
-TEST(Sweep, AFailedRunKeepsItsRowInSweepCsv) {
-  const fs::path dir = fs::temp_directory_path() / "brittle_sweep_one_failed";
+// Every load's scene is checked before anything starts (issue 15): a load whose pre-stress the
+// scene cannot take (0.9 sigma_c above 3K = E/(1-2nu)), a misspelt key and a missing file are
+// one line each, naming the load, exit 2, and nothing is written. (A run that fails while
+// running keeps its row in sweep.csv: Sweep.ABlownUpLoadKeepsItsRowAndTheOthers.)
+TEST(Sweep, ABadSceneIsRefusedBeforeAnyRun) {
+  const fs::path dir = fs::temp_directory_path() / "brittle_sweep_refused";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  // sigma_c so large that 0.9 sigma_c exceeds 3K = E/(1-2nu) = 1.03e10 Pa: that run is refused
-  // (exit 2, no summary.json); 0.05 sigma_c = 1e9 Pa runs.
   const fs::path scene = dir / "tiny.ini";
   std::ofstream(scene)
       << "[mesh]\nsize = 2e-3\n[material]\nsigma_c = 2e10\n[run]\nend_time = 2e-6\n";
-  const std::string sweep = std::string(BRITTLE_EXE) + " sweep " + scene.string() +
-                            " --loads 0.05,0.9 --jobs 2 --out " + (dir / "sweep").string() + " > " +
-                            (dir / "sweep.log").string() + " 2>&1";
-  const int status = std::system(sweep.c_str());
-  const std::string log = read(dir / "sweep.log");
-  ASSERT_TRUE(WIFEXITED(status)) << log;
-  EXPECT_EQ(WEXITSTATUS(status), 2) << log;
-  EXPECT_NE(log.find("some runs failed"), std::string::npos) << log;
-  std::ifstream csv(dir / "sweep" / "sweep.csv");
-  ASSERT_TRUE(csv) << "no sweep.csv: " << log;
-  std::string header, completed, failed, extra;
-  std::getline(csv, header);
-  std::getline(csv, completed);
-  std::getline(csv, failed);
-  EXPECT_FALSE(std::getline(csv, extra)) << extra;
-  EXPECT_EQ(completed.rfind("0.05,", 0), 0u) << completed;
-  EXPECT_NE(completed.find("\"completed\""), std::string::npos) << completed;
-  EXPECT_EQ(failed.rfind("0.9,nan,nan,", 0), 0u) << failed;
-  EXPECT_NE(failed.find("\"failed: no summary.json"), std::string::npos) << failed;
-  EXPECT_NE(read(dir / "sweep" / "load_0.900" / "run.log").find("out of range"), std::string::npos);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {scene.string() + " --loads 0.05,0.9", "load 0.900: "},
+      {scene.string() + " --loads 0.05 --set material.Ee=1", "material.Ee"},
+      {(dir / "missing.ini").string() + " --loads 0.05", "missing.ini"}};
+  for (const auto& [args, expected] : cases) {
+    SCOPED_TRACE(args);
+    const std::string sweep = std::string(BRITTLE_EXE) + " sweep " + args + " --jobs 2 --out " +
+                              (dir / "sweep").string() + " > " + (dir / "sweep.log").string() +
+                              " 2>&1";
+    const auto start = std::chrono::steady_clock::now();
+    const int status = std::system(sweep.c_str());
+    const std::string log = read(dir / "sweep.log");
+    ASSERT_TRUE(WIFEXITED(status)) << log;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << log;
+    EXPECT_NE(log.find(expected), std::string::npos) << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+    EXPECT_FALSE(fs::exists(dir / "sweep")) << "nothing is written";
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5)) << "no run started";
+  }
 }
 
 // A sweep in which one load really blows up: a patch of nodes thrown at 40 km/s inverts an
