@@ -1,11 +1,14 @@
 // brittle: command line entry point. Parses the scene, builds the simulation, attaches the
 // writers, runs, and maps errors to a one-line message and a non-zero exit code.
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vtkObject.h>
 
 #include <atomic>
 #include <boost/program_options.hpp>
 #include <chrono>
+#include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -50,76 +53,115 @@ const char* kUsage =
     "LABEL[=A.ini,...] ...] [--jobs N] [--out DIR]  (docs/mesh-study.md)\n"
     "       brittle --version\n";
 
-/// Progress on stderr (steps, simulated time, ETA), only when stderr is a terminal.
+/// Progress on stderr (steps, simulated time, crack tip, ETA): rewritten in place every 0.5 s
+/// when stderr is a terminal, and as a line every `every` steps when asked (--progress: batch
+/// logs). Everything but the in-place line also goes to <dir>/run.log, unless stderr already is
+/// that file (a sweep's or study's child).
 class Progress : public brittle::Observer {
  public:
-  explicit Progress(bool profile) : profile_(profile) {}
+  Progress(bool profile, long every) : profile_(profile), every_(every) {}
+  ~Progress() override {
+    if (log_) std::fclose(log_);
+  }
   void on_start(const brittle::Simulation& sim) override {
     start_ = last_ = std::chrono::steady_clock::now();
+    open_log(sim.scene().output.directory + "/run.log", sim.resumed());
     if (sim.resumed())
-      std::fprintf(stderr, "brittle: resumed from the checkpoint at t = %.4g s, step %ld\n",
-                   sim.time(), sim.steps());
+      say("brittle: resumed from the checkpoint at t = %.4g s, step %ld\n", sim.time(), sim.steps());
     const brittle::Halo* halo = sim.halo();  // a decomposed run: the whole grid's counts
-    std::fprintf(stderr, "brittle: %lld nodes, %lld tets%s, dt = %.4g s, %ld steps to %.4g s\n",
-                 static_cast<long long>(halo ? halo->initial_nodes() : sim.grid().num_points()),
-                 static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()),
-                 halo ? (" over " + std::to_string(halo->size()) + " ranks").c_str() : "",
-                 sim.dt(), static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5),
-                 sim.scene().run.end_time);
+    say("brittle: %lld nodes, %lld tets%s, dt = %.4g s, %ld steps to %.4g s\n",
+        static_cast<long long>(halo ? halo->initial_nodes() : sim.grid().num_points()),
+        static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()),
+        halo ? (" over " + std::to_string(halo->size()) + " ranks").c_str() : "", sim.dt(),
+        static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5), sim.scene().run.end_time);
   }
   void on_step(const brittle::Simulation& sim) override {
-    if (!tty_) return;
+    const bool line = every_ > 0 && sim.steps() % every_ == 0;
+    if (!tty_ && !line) return;
     const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < std::chrono::milliseconds(500)) return;
+    if (!line && now - last_ < std::chrono::milliseconds(500)) return;
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double fraction = sim.time() / sim.scene().run.end_time;
     const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
     const auto& f = sim.fracture();
     const double tip = f.splits() > 0 ? f.tip_x() : sim.scene().geometry.notch_depth;
-    std::fprintf(stderr,
-                 "\r  step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s   ",
-                 sim.steps(), sim.time() * 1e6, 100 * fraction, tip * 1e3, f.splits(), eta);
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "step %ld  t = %.3f us (%.0f%%)  tip x = %.2f mm  splits %ld  ETA %.0f s",
+                  sim.steps(), sim.time() * 1e6, 100 * fraction, tip * 1e3, f.splits(), eta);
+    if (line) {  // a whole line, in the log too
+      if (tty_) std::fputc('\n', stderr);
+      say("brittle: %s\n", text);
+    } else {
+      std::fprintf(stderr, "\r  %s   ", text);
+    }
   }
   void on_warning(const brittle::Simulation&, const std::string& message) override {
-    std::fprintf(stderr, "%sbrittle: warning: %s\n", tty_ ? "\n" : "", message.c_str());
+    if (tty_) std::fputc('\n', stderr);
+    say("brittle: warning: %s\n", message.c_str());
   }
   void on_finish(const brittle::Simulation& sim, const brittle::RunSummary& s) override {
     if (tty_) std::fputc('\n', stderr);
-    std::fprintf(stderr, "brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n", s.status.c_str(),
-                 s.steps, s.wall_seconds, s.tet_updates_per_second);
+    say("brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n", s.status.c_str(), s.steps,
+        s.wall_seconds, s.tet_updates_per_second);
     if (profile_) {  // shares of the stepping time; output is outside it
       const double total = s.phases.stepping();
-      std::fprintf(stderr, "brittle: phases (s, share of stepping):");
-      for (const auto& [name, seconds] : s.phases.named())
-        std::fprintf(stderr, "%s %s %.3f (%.1f%%)", name == std::string("kick_drift") ? "" : ",",
-                     name, seconds, total > 0 ? 100 * seconds / total : 0.0);
-      std::fputc('\n', stderr);
+      std::string text = "brittle: phases (s, share of stepping):";
+      for (const auto& [name, seconds] : s.phases.named()) {
+        char part[96];
+        std::snprintf(part, sizeof part, "%s %s %.3f (%.1f%%)",
+                      name == std::string("kick_drift") ? "" : ",", name, seconds,
+                      total > 0 ? 100 * seconds / total : 0.0);
+        text += part;
+      }
+      say("%s\n", text.c_str());
     }
     if (s.splits == 0) return;
     const auto& fronts = sim.fronts();
-    if (sim.scene().initial.state == brittle::InitialParams::State::prestress)
-      std::fprintf(stderr,
-                   "brittle: %ld splits, tip at x = %.2f mm; steady speed %.0f m/s (Zhou fit at "
-                   "W = %.0f N/m: %.0f m/s)\n",
-                   s.splits, s.tip_x * 1e3, s.crack_speed.speed, s.W, s.zhou_speed);
+    // A run too short for the speed window has no steady speed: say so, not "nan m/s".
+    char speed[96];
+    if (std::isfinite(s.crack_speed.speed))
+      std::snprintf(speed, sizeof speed, "steady speed %.0f m/s", s.crack_speed.speed);
     else
-      std::fprintf(stderr,
-                   "brittle: %ld splits, leading tip at (%.2f, %.2f) mm; steady speed %.0f m/s\n",
-                   s.splits, s.tip_x * 1e3, s.tip_y * 1e3, s.crack_speed.speed);
-    std::fprintf(stderr,
-                 "brittle: %zu crack tips, %zu branchings, %zu nucleations (summary.json)\n",
-                 fronts.tips().size(), fronts.branchings().size(), fronts.nucleations().size());
+      std::snprintf(speed, sizeof speed,
+                    "no steady speed (fewer than 3 tip samples in the window from %.3g us)",
+                    sim.scene().fracture.speed_window_start * 1e6);
+    if (sim.scene().initial.state == brittle::InitialParams::State::prestress)
+      say("brittle: %ld splits, tip at x = %.2f mm; %s (Zhou fit at W = %.0f N/m: %.0f m/s)\n",
+          s.splits, s.tip_x * 1e3, speed, s.W, s.zhou_speed);
+    else
+      say("brittle: %ld splits, leading tip at (%.2f, %.2f) mm; %s\n", s.splits, s.tip_x * 1e3,
+          s.tip_y * 1e3, speed);
+    say("brittle: %zu crack tips, %zu branchings, %zu nucleations (summary.json)\n",
+        fronts.tips().size(), fronts.branchings().size(), fronts.nucleations().size());
   }
 
  private:
+  /// To stderr and to the log.
+  void say(const char* format, ...) __attribute__((format(printf, 2, 3))) {
+    char text[2048];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    std::fputs(text, stderr);
+    if (log_) std::fputs(text, log_), std::fflush(log_);
+  }
+  void open_log(const std::string& path, bool append) {
+    struct stat err{}, file{};
+    if (::fstat(STDERR_FILENO, &err) == 0 && ::stat(path.c_str(), &file) == 0 &&
+        err.st_dev == file.st_dev && err.st_ino == file.st_ino)
+      return;  // stderr is the log already
+    log_ = std::fopen(path.c_str(), append ? "a" : "w");  // (a log that cannot open: none)
+  }
   bool profile_;
+  long every_;
   bool tty_ = isatty(STDERR_FILENO);
+  std::FILE* log_ = nullptr;
   std::chrono::steady_clock::time_point start_, last_;
 };
 
-/// The end of `brittle run`: what was written, and for a stopped run how to go on; exit code
-/// 128 + the signal (130 SIGINT, 143 SIGTERM) for a stopped run, else 0.
 int finish_run(const brittle::RunSummary& summary, const std::string& directory) {
   std::cout << "wrote " << directory << " (" << summary.status << ")\n";
   if (summary.status != "interrupted") return 0;
@@ -138,6 +180,9 @@ int run_command(const std::vector<std::string>& args) {
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out), "output directory (overrides output.directory)")(
       "profile", "print the wall time of each phase of the step (also in summary.json)")(
+      "progress", po::value<long>()->implicit_value(100),
+      "print a progress line every N steps (default 100), also when stderr is not a terminal "
+      "(batch logs); run.log gets them too")(
       "dry-run", "mesh and check the scene, print counts, dt, steps, frames and estimates of "
                  "memory, disk and time; write nothing")(
       "resume", po::value<std::string>(),
@@ -151,7 +196,9 @@ int run_command(const std::vector<std::string>& args) {
     brittle::print_scene_keys(std::cout);
     return 0;
   }
-  Progress progress(vm.count("profile") > 0);
+  const long every = vm.count("progress") ? vm["progress"].as<long>() : 0;
+  BRITTLE_CHECK(every >= 0, "--progress ", every, ": expected a number of steps >= 1");
+  Progress progress(vm.count("profile") > 0, every);
   const bool decomposed = brittle::launched_by_mpi();  // mpirun -np N brittle run
   if (decomposed) brittle::begin_decomposed_run();
   BRITTLE_CHECK(!decomposed || (!vm.count("resume") && !vm.count("dry-run")),

@@ -845,6 +845,37 @@ TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
   EXPECT_TRUE(contains(big.err, "mesh.max_elements")) << big.err;
 }
 
+// Progress forced on for batch logs (issue 15): a line every N steps although stderr is not a
+// terminal; the run directory's run.log holds what went to stderr, once also for a sweep's
+// child (whose stderr is that run.log already); a short run says it has no steady speed.
+TEST(Executable, ProgressLinesAndRunLog) {
+  TempDir dir;
+  const std::string file = dir.write("plate.ini", std::string(kLoad) +
+                                                      "[fracture]\nmode = straight\n"
+                                                      "[run]\nend_time = 3e-6\n");
+  const fs::path out = dir / "out";
+  const Result r = run_brittle(dir, {"run", file, "--out", out.string(), "--progress", "20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int lines = 0;
+  for (std::size_t at = r.err.find("brittle: step "); at != std::string::npos;
+       at = r.err.find("brittle: step ", at + 1))
+    ++lines;
+  EXPECT_EQ(lines, 3) << r.err;  // steps 20, 40, 60 of 77
+  EXPECT_EQ(read_text(out / "run.log"), r.err);
+  EXPECT_TRUE(contains(r.err, "no steady speed")) << r.err;
+  EXPECT_FALSE(contains(r.err, "nan m/s")) << r.err;
+  const Result quiet = run_brittle(dir, {"run", file, "--out", out.string()});
+  EXPECT_FALSE(contains(quiet.err, "brittle: step ")) << "no progress lines unless asked";
+  // a sweep's child: its stderr is its run.log; each line once
+  const Result sweep = run_brittle(dir, {"sweep", file, "--loads", "0.9", "--jobs", "1", "--out",
+                                         (dir / "sweep").string()});
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  const std::string log = read_text(dir / "sweep" / "load_0.900" / "run.log");
+  const std::string first = "tets, dt = ";
+  EXPECT_NE(log.find(first), std::string::npos) << log;
+  EXPECT_EQ(log.find(first), log.rfind(first)) << log;
+}
+
 // A run into a directory an earlier, longer run used removes that run's frames (and says so)
 // and leaves every other file there as it was.
 TEST(Executable, ARunRemovesAnEarlierRunsFramesOnly) {
