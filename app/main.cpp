@@ -185,6 +185,9 @@ int run_command(const std::vector<std::string>& args) {
       "(batch logs); run.log gets them too")(
       "dry-run", "mesh and check the scene, print counts, dt, steps, frames and estimates of "
                  "memory, disk and time; write nothing")(
+      "show-scene",
+      "print the resolved scene (every key after the files, --set and --out; what the run "
+      "writes as DIR/scene.ini) and write nothing")(
       "resume", po::value<std::string>(),
       "continue the run in DIR from DIR/checkpoint.bin (with --set run.end_time=T to extend "
       "it); no scene files")(
@@ -217,6 +220,10 @@ int run_command(const std::vector<std::string>& args) {
                 "SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR])");
   brittle::Scene scene = brittle::load_scene(files, sets);
   if (!out.empty()) scene.output.directory = out;
+  if (vm.count("show-scene")) {
+    std::cout << brittle::scene_ini(scene);
+    return 0;
+  }
   if (vm.count("dry-run")) {
     brittle::dry_run(scene, std::cout);
     return 0;

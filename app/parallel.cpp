@@ -146,6 +146,7 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
                           const std::atomic<int>* stop) {
   const int rank = mpi_rank(), ranks = mpi_size();
   begin_decomposed_run();
+  scene.resolved = scene_entries(scene);
   check_decomposable(scene);  // the same scene on every rank: the same verdict
   auto mesh = shared_mesh(scene);
   std::unique_ptr<Simulation> sim;
@@ -171,6 +172,7 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     std::filesystem::create_directories(dir);
     if (scene.output.vtu) writers.push_back(std::make_unique<PieceSeriesWriter>(dir, *halo));
     if (rank != 0) return;
+    write_file_atomically(dir + "/scene.ini", scene_ini(scene));  // the run's own scene
     std::error_code ec;  // an earlier serial run's checkpoint is not this run's state
     std::filesystem::remove(checkpoint_path(dir), ec);
     if (const int n = remove_earlier_frames(dir))

@@ -25,6 +25,8 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
   // A checkpoint left by an earlier run into this directory is not this run's state (a fresh
   // run), nor is a half-written one (a run killed while writing it).
   const std::string checkpoint = checkpoint_path(scene.output.directory);
+  // The run's own scene: every key, as `brittle run DIR/scene.ini` repeats it (docs/output.md).
+  write_file_atomically(scene.output.directory + "/scene.ini", scene_ini(scene));
   std::error_code ec;
   if (!sim.resumed()) {
     std::filesystem::remove(checkpoint, ec);
@@ -46,6 +48,7 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
 
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
                      const std::atomic<int>* stop) {
+  scene.resolved = scene_entries(scene);
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
   return run_simulation(sim, extra, stop);
@@ -68,6 +71,7 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   sets.insert(sets.end(), overrides.begin(), overrides.end());
   Scene scene = load_scene(files, sets);
   scene.output.directory = directory;
+  scene.resolved = scene_entries(scene);
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
   restore_checkpoint(sim, path);

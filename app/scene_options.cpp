@@ -55,6 +55,9 @@ struct Key {
   std::function<void(po::options_description_easy_init&, const Key&)> declare;
   /// Checks the value (already converted by Boost) and assigns it to the scene.
   std::function<Verdict(const po::variable_value&, const Source&, Scene&)> apply;
+  /// The scene's value as the text that reads back as it (nothing: the key is left out of a
+  /// resolved scene, e.g. the load kind not in use). scene_ini() writes every key with it.
+  std::function<std::optional<std::string>(const Scene&)> get;
 
   std::string section() const { return name.substr(0, name.find('.')); }
   /// "Young's modulus in Pa, > 0"
@@ -131,18 +134,38 @@ Key typed(std::string name, std::string unit, std::string meaning, std::string r
   return k;
 }
 
+/// A value as INI text that reads back as it (an empty string stays empty).
+template <class T>
+std::string ini_text(const T& v) {
+  if constexpr (std::is_same_v<T, std::string>)
+    return v;
+  else
+    return show(v);
+}
+
+/// Numbers as a comma separated list that reads back as them.
+std::string number_list_text(const std::vector<double>& values) {
+  std::string s;
+  for (double v : values) s += (s.empty() ? "" : ", ") + format_double(v);
+  return s;
+}
+
 /// A key bound to a Scene member, valid when `ok(value)` holds.
 template <class Section, class T>
 Key field(std::string name, Section Scene::*section, T Section::*member, std::string unit,
           std::string meaning, std::string range,
           std::type_identity_t<std::function<bool(const T&)>> ok) {
   const T def = Scene{}.*section.*member;
-  return typed<T>(std::move(name), std::move(unit), std::move(meaning), std::move(range), def,
-                  show(def), [section, member, ok](const T& v, const Source&, Scene& scene) {
-                    if (!ok(v)) return Verdict::out_of_range;
-                    scene.*section.*member = v;
-                    return Verdict::ok;
-                  });
+  Key k = typed<T>(std::move(name), std::move(unit), std::move(meaning), std::move(range), def,
+                   show(def), [section, member, ok](const T& v, const Source&, Scene& scene) {
+                     if (!ok(v)) return Verdict::out_of_range;
+                     scene.*section.*member = v;
+                     return Verdict::ok;
+                   });
+  k.get = [section, member](const Scene& s) -> std::optional<std::string> {
+    return ini_text(s.*section.*member);
+  };
+  return k;
 }
 
 bool positive(const double& v) {
@@ -168,6 +191,9 @@ Key time_list(const std::string& name, const std::string& meaning,
                                return Verdict::ok;
                              });
   k.type_word = "a list of numbers";
+  k.get = [target](const Scene& s) -> std::optional<std::string> {
+    return number_list_text(target(const_cast<Scene&>(s)));
+  };
   return k;
 }
 
@@ -225,6 +251,7 @@ const std::vector<Key>& scene_keys() {
           }
           return Verdict::ok;
         }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.mesh.file; };
     k.push_back(field("mesh.size", &Scene::mesh, &MeP::size, "m",
                       "target element size h away from the band", "> 0", positive));
     k.push_back(field("mesh.band", &Scene::mesh, &MeP::band, "m",
@@ -249,6 +276,10 @@ const std::vector<Key>& scene_keys() {
                                 scene.loading.sigma = std::numeric_limits<double>::quiet_NaN();
                                 return Verdict::ok;
                               }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      if (std::isnan(s.loading.sigma_over_sigmac)) return std::nullopt;
+      return format_double(s.loading.sigma_over_sigmac);
+    };
     k.push_back(
         typed<double>("loading.sigma", "Pa", "uniaxial pre-stress along y",
                       "> 0 and < 3K = E/(1-2nu); give this or loading.sigma_over_sigmac",
@@ -258,6 +289,10 @@ const std::vector<Key>& scene_keys() {
                         scene.loading.sigma_over_sigmac = std::numeric_limits<double>::quiet_NaN();
                         return Verdict::ok;
                       }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      if (std::isnan(s.loading.sigma)) return std::nullopt;
+      return format_double(s.loading.sigma);
+    };
     // [initial] — the state at t = 0 (initial velocities: [initial.NAME] sections)
     k.push_back(
         typed<std::string>("initial.state", "", "state at t = 0",
@@ -272,6 +307,9 @@ const std::vector<Key>& scene_keys() {
                                return Verdict::out_of_range;
                              return Verdict::ok;
                            }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      return s.initial.state == InitialParams::State::rest ? "rest" : "prestress";
+    };
     // [fracture] — node splitting and nodal cohesive forces (SPEC 5)
     k.push_back(typed<std::string>(
         "fracture.mode", "", "which nodes may split",
@@ -287,6 +325,11 @@ const std::vector<Key>& scene_keys() {
             return Verdict::out_of_range;
           return Verdict::ok;
         }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      return s.fracture.mode == FP::Mode::straight    ? "straight"
+             : s.fracture.mode == FP::Mode::branching ? "branching"
+                                                      : "none";
+    };
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
                       "paper RD: 9.35e-8",
@@ -311,6 +354,9 @@ const std::vector<Key>& scene_keys() {
           return Verdict::ok;
         }));
     k.back().type_word = "a list of numbers";
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      return number_list_text(s.fracture.region);
+    };
     k.push_back(field("fracture.min_branch_length", &Scene::fracture, &FP::min_branch_length, "m",
                       "crack pattern (branches.csv): crack tracks shorter than this are spurs, "
                       "not branches (0 = the tracker's join distance, 4 element sizes)",
@@ -331,6 +377,10 @@ const std::vector<Key>& scene_keys() {
                                 scene.damage.Omega_d0 = v;
                                 return Verdict::ok;
                               }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      if (std::isnan(s.damage.Omega_d0)) return std::nullopt;
+      return format_double(s.damage.Omega_d0);
+    };
     k.push_back(field("damage.v_inf", &Scene::damage, &DP::v_inf, "m/s",
                       "limiting crack speed of the Zhou fit, for Omega_d0 (6.6)", "> 0", positive));
     k.push_back(field("damage.v_R", &Scene::damage, &DP::v_R, "m/s",
@@ -353,6 +403,7 @@ const std::vector<Key>& scene_keys() {
                              scene.output.directory = v;
                              return Verdict::ok;
                            }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.output.directory; };
     k.push_back(field("output.frame_interval", &Scene::output, &OP::frame_interval, "s",
                       "VTU frame every this much simulated time (0 = none)", ">= 0", non_negative));
     k.push_back(time_list("output.frame_times",
@@ -388,6 +439,11 @@ const std::vector<Key>& scene_keys() {
           scene.render.fields = std::move(fields);
           return Verdict::ok;
         }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      std::string text;
+      for (const std::string& f : s.render.fields) text += (text.empty() ? "" : ", ") + f;
+      return text;
+    };
     k.push_back(field("render.width", &Scene::render, &ReP::width, "px", "PNG frame width",
                       "16 ... 8192", [](const int& v) { return v >= 16 && v <= 8192; }));
     k.push_back(field("render.height", &Scene::render, &ReP::height, "px", "PNG frame height",
@@ -415,6 +471,7 @@ const std::vector<Key>& scene_keys() {
                                      scene.render.directory = v;
                                      return Verdict::ok;
                                    }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.render.directory; };
     return k;
   }();
   return keys;
@@ -1021,7 +1078,48 @@ Scene load_scene(const std::vector<std::string>& files, const std::vector<std::s
 
   read_named_sections(named, scene);
   check_scene(scene, origins, files);
+  for (const NamedSection& s : named) {  // their text as given reads back as the same numbers
+    Scene::NamedText t{s.kind, s.name, {}};
+    for (const auto& [key, v] : s.keys) t.keys.emplace_back(key, v.value);
+    scene.named_sections.push_back(std::move(t));
+  }
   return scene;
+}
+
+std::vector<std::pair<std::string, std::string>> scene_entries(const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> entries;
+  for (const Key& k : scene_keys()) {
+    BRITTLE_CHECK(k.get != nullptr, "scene key ", k.name, " has no getter");
+    // [notch.NAME] sections replace the paper's notch: both may not be given
+    if (!scene.geometry.notches.empty() &&
+        (k.name == "geometry.notch_depth" || k.name == "geometry.notch_base"))
+      continue;
+    if (const std::optional<std::string> value = k.get(scene))  // (unset: left out)
+      entries.emplace_back(k.name, *value);
+  }
+  for (const Scene::NamedText& s : scene.named_sections)
+    for (const auto& [key, value] : s.keys) entries.emplace_back(s.kind + "." + s.name + "." + key, value);
+  return entries;
+}
+
+std::string scene_ini(const Scene& scene) {
+  std::ostringstream out;
+  out << "# The resolved scene of a run: every key, after the scene files and --set overrides\n"
+         "# below, in the order of `brittle run --help`. `brittle run` on this file repeats the "
+         "run.\n# brittle "
+      << BRITTLE_VERSION << "\n";
+  for (const std::string& s : scene.sources) out << "# source: " << s << "\n";
+  std::string section;
+  for (const auto& [name, value] : scene_entries(scene)) {
+    // section.key, or kind.NAME.key for a named section
+    const std::size_t dot = name.rfind('.');
+    if (name.substr(0, dot) != section) {
+      section = name.substr(0, dot);
+      out << "\n[" << section << "]\n";
+    }
+    out << name.substr(dot + 1) << " = " << value << "\n";
+  }
+  return out.str();
 }
 
 void print_scene_keys(std::ostream& out) {

@@ -509,6 +509,11 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   };
   j["scene_sources"] = sim.scene().sources;
   j["brittle_version"] = BRITTLE_VERSION;
+  if (!sim.scene().resolved.empty()) {  // every key's value, as in the run's scene.ini
+    nlohmann::json scene = nlohmann::json::object();
+    for (const auto& [key, value] : sim.scene().resolved) scene[key] = value;
+    j["scene"] = scene;
+  }
   j["nodes"] = s.nodes;
   j["tets"] = s.tets;
   j["fixed_nodes"] = s.fixed_nodes;

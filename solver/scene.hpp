@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace brittle {
@@ -211,6 +212,16 @@ struct Scene {
   OutputParams output;
   RenderParams render;
   std::vector<std::string> sources;  ///< the INI files and --set overrides it came from
+  /// The named sections ([boundary.NAME], [notch.NAME], ...) as the sources gave them, merged:
+  /// kind, name and (key, text) pairs (app/scene_options.cpp, scene_ini).
+  struct NamedText {
+    std::string kind, name;
+    std::vector<std::pair<std::string, std::string>> keys;
+  };
+  std::vector<NamedText> named_sections;
+  /// Every key as "section.key" (or "kind.NAME.key") and its value text, as the run's scene.ini
+  /// gives them (set by the application before the run: summary.json "scene").
+  std::vector<std::pair<std::string, std::string>> resolved;
 };
 
 }  // namespace brittle

@@ -40,6 +40,7 @@ nlohmann::json physics_of(nlohmann::json j) {
                           "scene_sources", "checkpoint", "checkpoint_time", "checkpoints_written",
                           "checkpoint_bytes", "checkpoint_seconds"})
     j.erase(key);
+  j.erase("scene");  // the command's keys (directory, threads), as scene_sources
   return j;
 }
 
@@ -50,7 +51,9 @@ void expect_same_outputs(const fs::path& a, const fs::path& b) {
     if (!entry.is_regular_file()) continue;
     const fs::path rel = fs::relative(entry.path(), a);
     const std::string name = rel.filename().string();
-    if (name == "checkpoint.bin" || name.starts_with("stdout") || name.starts_with("stderr"))
+    // (scene.ini and run.log say how each was run: another directory, thread count, a resume)
+    if (name == "checkpoint.bin" || name.starts_with("stdout") || name.starts_with("stderr") ||
+        name == "scene.ini" || name == "run.log")
       continue;
     ++files;
     ASSERT_TRUE(fs::exists(b / rel)) << rel;
@@ -61,8 +64,12 @@ void expect_same_outputs(const fs::path& a, const fs::path& b) {
   }
   EXPECT_GT(files, 10);
   int in_b = 0;
-  for (const auto& entry : fs::recursive_directory_iterator(b))
-    if (entry.is_regular_file() && entry.path().extension() != ".bin") ++in_b;
+  for (const auto& entry : fs::recursive_directory_iterator(b)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && entry.path().extension() != ".bin" && name != "scene.ini" &&
+        name != "run.log")
+      ++in_b;
+  }
   EXPECT_EQ(in_b, files) << "the resumed directory has other files";
 }
 

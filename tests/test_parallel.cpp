@@ -225,8 +225,10 @@ int shell(const std::string& command, const fs::path& log) {
 }
 
 /// The summary without what depends on the machine's speed.
+/// (and the output directory it names among the scene's keys).
 nlohmann::json without_timings(nlohmann::json j) {
   for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases"}) j.erase(key);
+  if (j.contains("scene")) j["scene"].erase("output.directory");
   return j;
 }
 
