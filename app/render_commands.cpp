@@ -144,7 +144,7 @@ std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
 
 int render_command(const std::vector<std::string>& args) {
   const char* usage =
-      "usage: brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T1,T2,...] "
+      "usage: brittle render RUN_DIR[/run.pvd] [SCENE.ini ...] [--times T1,T2,...] "
       "[--field sigma1|damage|crack ...] [--set render.key=value ...] [--out DIR] [--panel FILE.png "
       "[--title T]]";
   po::options_description opts("brittle render options");
@@ -168,7 +168,13 @@ int render_command(const std::vector<std::string>& args) {
     return 0;
   }
   BRITTLE_CHECK(!inputs.empty(), "brittle render: no time series given (", usage, ")");
-  const std::string pvd = inputs.front();
+  // A run directory means its run.pvd; links.pvd holds lines, not the plate's cells.
+  std::string pvd = inputs.front();
+  std::error_code ec;
+  if (fs::is_directory(pvd, ec)) pvd = (fs::path(pvd) / "run.pvd").string();
+  BRITTLE_CHECK(fs::path(pvd).filename() != "links.pvd", "brittle render '", pvd,
+                "': the cohesive links are lines for ParaView, not frames of the plate "
+                "(expected RUN_DIR or RUN_DIR/run.pvd)");
   const Scene scene = render_scene({inputs.begin() + 1, inputs.end()}, sets);
   const std::vector<PvdEntry> series = read_pvd(pvd);
   BRITTLE_CHECK(!series.empty(), "render: time series '", pvd, "' has no frames");

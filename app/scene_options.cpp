@@ -58,6 +58,8 @@ struct Key {
   /// The scene's value as the text that reads back as it (nothing: the key is left out of a
   /// resolved scene, e.g. the load kind not in use). scene_ini() writes every key with it.
   std::function<std::optional<std::string>(const Scene&)> get;
+  /// For keys that take words: the words (matched without regard to case), for the message.
+  std::vector<std::string> choices;
 
   std::string section() const { return name.substr(0, name.find('.')); }
   /// "Young's modulus in Pa, > 0"
@@ -206,6 +208,11 @@ using DP = DamageParams;
 using OP = OutputParams;
 using ReP = RenderParams;
 
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 /// THE table: every scene key, in the order --help and docs/scenes.md list them.
 const std::vector<Key>& scene_keys() {
   static const std::vector<Key> keys = [] {
@@ -298,7 +305,8 @@ const std::vector<Key>& scene_keys() {
         typed<std::string>("initial.state", "", "state at t = 0",
                            "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
                            std::string("prestress"), "prestress",
-                           [](const std::string& v, const Source&, Scene& scene) {
+                           [](const std::string& text, const Source&, Scene& scene) {
+                             const std::string v = lower(text);
                              if (v == "prestress")
                                scene.initial.state = InitialParams::State::prestress;
                              else if (v == "rest")
@@ -310,11 +318,13 @@ const std::vector<Key>& scene_keys() {
     k.back().get = [](const Scene& s) -> std::optional<std::string> {
       return s.initial.state == InitialParams::State::rest ? "rest" : "prestress";
     };
+    k.back().choices = {"prestress", "rest"};
     // [fracture] — node splitting and nodal cohesive forces (SPEC 5)
     k.push_back(typed<std::string>(
         "fracture.mode", "", "which nodes may split",
         "none | straight (only y = 0, x >= a, normal stress (6.7)) | branching (any node)",
-        std::string("none"), "none", [](const std::string& v, const Source&, Scene& scene) {
+        std::string("none"), "none", [](const std::string& text, const Source&, Scene& scene) {
+          const std::string v = lower(text);
           if (v == "none")
             scene.fracture.mode = FP::Mode::none;
           else if (v == "straight")
@@ -330,6 +340,7 @@ const std::vector<Key>& scene_keys() {
              : s.fracture.mode == FP::Mode::branching ? "branching"
                                                       : "none";
     };
+    k.back().choices = {"none", "straight", "branching"};
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
                       "paper RD: 9.35e-8",
@@ -432,7 +443,7 @@ const std::vector<Key>& scene_keys() {
         "sigma1 (sigma1/sigma_c), damage (Omega) and/or crack (cracked faces and tips)",
         std::string("sigma1, damage"), "sigma1, damage",
         [](const std::string& v, const Source&, Scene& scene) {
-          std::vector<std::string> fields = list_words(v);
+          std::vector<std::string> fields = list_words(lower(v));
           for (const std::string& f : fields)
             if (f != "sigma1" && f != "damage" && f != "crack") return Verdict::out_of_range;
           if (fields.empty()) return Verdict::out_of_range;
@@ -444,6 +455,7 @@ const std::vector<Key>& scene_keys() {
       for (const std::string& f : s.render.fields) text += (text.empty() ? "" : ", ") + f;
       return text;
     };
+    k.back().choices = {"sigma1", "damage", "crack"};
     k.push_back(field("render.width", &Scene::render, &ReP::width, "px", "PNG frame width",
                       "16 ... 8192", [](const int& v) { return v >= 16 && v <= 8192; }));
     k.push_back(field("render.height", &Scene::render, &ReP::height, "px", "PNG frame height",
@@ -524,10 +536,6 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 [[noreturn]] void unknown_key(const Source& src, const std::string& name) {
   std::string msg = error_message(src.label, ": unknown key '", name, "'");
@@ -667,10 +675,13 @@ class NamedReader {
                               " (expected ", k->expected, ")"));
   }
   std::string word(const std::string& key, std::initializer_list<const char*> allowed) const {
-    const std::string v = s_.keys.at(key).value;
-    for (const char* a : allowed)
+    const std::string v = lower(s_.keys.at(key).value);
+    std::string words;
+    for (const char* a : allowed) {
       if (v == a) return v;
-    bad(key, "is not one of the allowed words");
+      words += (words.empty() ? "" : ", ") + std::string(a);
+    }
+    bad(key, "is not one of: " + words + " (case does not matter)");
   }
   /// Numbers; `infinite` allows inf / -inf.
   std::vector<double> numbers(const std::string& key, std::size_t count,
@@ -897,6 +908,13 @@ void apply_options(const std::vector<po::option>& options, const Source& src, st
         throw Error(error_message(src.label, ": ", key.name, " = '", it->second, "' is not ",
                                   key.type_word, " (expected ", key.expected(), ")"));
       case Verdict::out_of_range:
+        if (!key.choices.empty()) {  // words: say which
+          std::string words;
+          for (const std::string& w : key.choices) words += (words.empty() ? "" : ", ") + w;
+          throw Error(error_message(src.label, ": ", key.name, " = '", it->second,
+                                    "' is not one of: ", words, " (expected ", key.expected(),
+                                    "; case does not matter)"));
+        }
         throw Error(error_message(src.label, ": ", key.name, " = ", it->second,
                                   " is out of range (expected ", key.expected(), ")"));
     }

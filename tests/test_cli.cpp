@@ -845,6 +845,41 @@ TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
   EXPECT_TRUE(contains(big.err, "mesh.max_elements")) << big.err;
 }
 
+// Words are matched without regard to case, and a wrong word is answered with the words
+// (issue 15); `brittle render RUN_DIR` renders RUN_DIR/run.pvd, and links.pvd is refused with
+// what to give instead.
+TEST(Executable, WordsIgnoreCaseAndRenderTakesARunDirectory) {
+  TempDir dir;
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  const Result upper = run_brittle(
+      dir, {"run", scenes + "cm.ini", "--set", "fracture.mode=STRAIGHT", "--set",
+            "initial.state=PreStress", "--set", "render.fields=Sigma1,CRACK", "--show-scene"});
+  ASSERT_EQ(upper.exit_code, 0) << upper.err;
+  for (const char* line : {"mode = straight\n", "state = prestress\n", "fields = sigma1, crack\n"})
+    EXPECT_TRUE(contains(upper.out, line)) << line;
+  const Result wrong = run_brittle(dir, {"run", scenes + "cm.ini", "--set", "fracture.mode=branchy",
+                                         "--dry-run"});
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_TRUE(contains(wrong.err, "fracture.mode = 'branchy' is not one of: none, straight, branching"))
+      << wrong.err;
+  const Result named = run_brittle(dir, {"run", scenes + "kalthoff.ini", "--set",
+                                         "boundary.impact.history=Rampy", "--dry-run"});
+  EXPECT_EQ(named.exit_code, 2);
+  EXPECT_TRUE(contains(named.err, "is not one of: constant, ramp, table")) << named.err;
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run_brittle(dir, {"run", scenes + "cm.ini", "--set", "run.end_time=2e-6", "--out",
+                              out.string()})
+                .exit_code,
+            0);
+  const Result render = run_brittle(dir, {"render", out.string(), "--times", "1e-6", "--field",
+                                          "sigma1", "--out", (dir / "png").string()});
+  EXPECT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_TRUE(fs::exists(dir / "png" / "sigma1_001.000us.png")) << render.out;
+  const Result links = run_brittle(dir, {"render", (out / "links.pvd").string()});
+  EXPECT_EQ(links.exit_code, 2);
+  EXPECT_TRUE(contains(links.err, "expected RUN_DIR or RUN_DIR/run.pvd")) << links.err;
+}
+
 // A run directory repeats itself (issue 15): DIR/scene.ini holds every key after the files
 // and --set, `brittle run DIR/scene.ini` gives the same bits, summary.json names the version
 // and every key; `--show-scene` prints the same scene and writes nothing. With the paper's
