@@ -929,10 +929,10 @@ TEST(Executable, RunDirectorySceneRepeatsTheRun) {
 // child (whose stderr is that run.log already); a short run says it has no steady speed.
 TEST(Executable, ProgressLinesAndRunLog) {
   TempDir dir;
-  const std::string file = dir.write("plate.ini", std::string(kLoad) +
-                                                      "[fracture]\nmode = straight\n"
-                                                      "[mesh]\nsize = 2e-3\n"
-                                                      "[run]\nend_time = 3e-6\n");
+  const std::string file = dir.write("plate.ini", "[loading]\nsigma_over_sigmac = 0.9\n"
+                                                  "[fracture]\nmode = straight\n"
+                                                  "[mesh]\nsize = 2e-3\n"
+                                                  "[run]\nend_time = 4e-6\n");
   const fs::path out = dir / "out";
   const Result r = run_brittle(dir, {"run", file, "--out", out.string(), "--progress", "10"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
