@@ -119,8 +119,6 @@ void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
     requests.emplace_back();
     MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.rank, 0,
               MPI_COMM_WORLD, &requests.back());
-    bytes_sent_ += sizeof(double) * n.send_buffer.size();
-    ++messages_sent_;
   }
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   for (const Neighbour& n : neighbours_) {
@@ -155,8 +153,6 @@ long Halo::sum(long value) const {
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   return value;
 }
-
-std::string Halo::first_error(const std::string& mine) const { return brittle::first_error(mine); }
 
 std::string first_error(const std::string& mine) {
   const int rank = comm_rank(), size = comm_size();

@@ -75,8 +75,6 @@ class Halo {
   long max(long value) const;
   /// Sum over the ranks.
   long sum(long value) const;
-  /// brittle::first_error over this run's ranks.
-  std::string first_error(const std::string& mine) const;
   /// Nodes of the whole grid before any split, and its cells.
   vtkIdType initial_nodes() const { return initial_nodes_; }
   vtkIdType cells() const { return static_cast<vtkIdType>(cell_part_.size()); }
@@ -95,10 +93,6 @@ class Halo {
                                         ForceAssembler& forces, Fracture& fracture,
                                         const std::vector<CohesiveLink>& removed,
                                         std::vector<GlobalFailure>& failures);
-
-  /// Bytes this rank sent in exchange() so far, and the messages (tests, docs/parallel.md).
-  std::uint64_t bytes_sent() const { return bytes_sent_; }
-  std::uint64_t messages_sent() const { return messages_sent_; }
 
  private:
   struct Neighbour {
@@ -124,7 +118,6 @@ class Halo {
   std::vector<int> node_owner_;                 ///< per global node
   std::vector<Neighbour> neighbours_;           ///< in increasing rank
   vtkIdType global_nodes_ = 0, initial_nodes_ = 0;
-  std::uint64_t bytes_sent_ = 0, messages_sent_ = 0;
 };
 
 }  // namespace brittle

@@ -401,7 +401,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   std::string local_error;
   auto agreed = [&](bool stop) {
     if (!halo_) return stop;
-    const std::string first = halo_->first_error(local_error);
+    const std::string first = first_error(local_error);
     if (!first.empty()) throw Error(first);
     return halo_->max(stop ? 1 : 0) != 0;
   };

@@ -134,6 +134,30 @@ Crossings expect_serial_bits(const Scene& scene, int checks, int steps,
   return seen;
 }
 
+/// A hand-made partition of the scene's plate: each cell goes to part(x, y) of its centroid.
+template <class Part>
+std::vector<int> parts_by_centroid(const Scene& scene, Part part) {
+  auto mesh = generate_plate_mesh(scene.geometry, scene.mesh);
+  const Grid whole(*mesh);
+  std::vector<int> cell_part(whole.num_cells(), 0);
+  for (vtkIdType e = 0; e < whole.num_cells(); ++e) {
+    double x = 0, y = 0;
+    for (int k = 0; k < 4; ++k) {
+      x += 0.25 * whole.X()[3 * whole.cells()[4 * e + k]];
+      y += 0.25 * whole.X()[3 * whole.cells()[4 * e + k] + 1];
+    }
+    cell_part[e] = part(x, y);
+  }
+  return cell_part;
+}
+
+/// Stripes `width` wide in x, dealt to the ranks in turn.
+std::vector<int> stripes(const Scene& scene, double width) {
+  return parts_by_centroid(scene, [width](double x, double) {
+    return static_cast<int>(std::floor(x / width)) % ranks();
+  });
+}
+
 /// Straight crack (6.7) on CM, METIS parts: 12 us, the crack well under way.
 TEST(Decomposed, StraightCrackHasTheSerialBits) {
   const Crossings c = expect_serial_bits(cm_scene(FractureParams::Mode::straight, 1e-3), 6, 250);
@@ -162,15 +186,7 @@ TEST(Decomposed, BranchingDamageRateDependentLinksHaveTheSerialBits) {
 /// many times (counted), in every part.
 TEST(Decomposed, CrackCrossingPartitionsManyTimesHasTheSerialBits) {
   const Scene s = branching_scene();
-  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  const Grid whole(*mesh);
-  std::vector<int> cell_part(whole.num_cells(), 0);
-  for (vtkIdType e = 0; e < whole.num_cells(); ++e) {
-    double x = 0;
-    for (int k = 0; k < 4; ++k) x += 0.25 * whole.X()[3 * whole.cells()[4 * e + k]];
-    cell_part[e] = static_cast<int>(std::floor(x / 2e-3)) % ranks();
-  }
-  const Crossings c = expect_serial_bits(s, 4, 350, std::move(cell_part));
+  const Crossings c = expect_serial_bits(s, 4, 350, stripes(s, 2e-3));
   EXPECT_GT(c.splits, 100);
   if (ranks() > 1) {
     EXPECT_GT(c.shared, 20) << "the crack should split nodes on partition boundaries many times";
@@ -186,15 +202,7 @@ TEST(Decomposed, CrackCrossingPartitionsManyTimesHasTheSerialBits) {
 TEST(Decomposed, CoarseBranchingRunHasTheSerialBits) {
   Scene s = branching_scene();
   s.mesh.size = 1e-3;
-  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  const Grid whole(*mesh);
-  std::vector<int> cell_part(whole.num_cells(), 0);
-  for (vtkIdType e = 0; e < whole.num_cells(); ++e) {
-    double x = 0;
-    for (int k = 0; k < 4; ++k) x += 0.25 * whole.X()[3 * whole.cells()[4 * e + k]];
-    cell_part[e] = static_cast<int>(std::floor(x / 3e-3)) % ranks();
-  }
-  const Crossings c = expect_serial_bits(s, 2, 150, std::move(cell_part));
+  const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
   EXPECT_GT(c.splits, 10);
   if (ranks() > 1) {
     EXPECT_GT(c.shared, 0) << "the crack should split nodes on partition boundaries";
@@ -206,18 +214,10 @@ TEST(Decomposed, CoarseBranchingRunHasTheSerialBits) {
 /// straight crack: every split is of a node whose cells lie in two parts.
 TEST(Decomposed, PartitionBoundaryThroughTheNotchTip) {
   const Scene s = cm_scene(FractureParams::Mode::straight, 1e-3);
-  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  const Grid whole(*mesh);
-  std::vector<int> cell_part(whole.num_cells(), 0);
-  for (vtkIdType e = 0; e < whole.num_cells(); ++e) {
-    double x = 0, y = 0;
-    for (int k = 0; k < 4; ++k) {
-      x += 0.25 * whole.X()[3 * whole.cells()[4 * e + k]];
-      y += 0.25 * whole.X()[3 * whole.cells()[4 * e + k] + 1];
-    }
-    if (ranks() > 1 && y < 0) cell_part[e] = ranks() == 2 || x < 0.5 * s.geometry.L ? 1 : 2;
-  }
-  const Crossings c = expect_serial_bits(s, 3, 400, std::move(cell_part));
+  const double half = 0.5 * s.geometry.L;
+  const Crossings c = expect_serial_bits(s, 3, 400, parts_by_centroid(s, [half](double x, double y) {
+    return ranks() == 1 || y >= 0 ? 0 : ranks() == 2 || x < half ? 1 : 2;
+  }));
   EXPECT_GT(c.splits, 20);
   if (ranks() > 1) {
     EXPECT_EQ(c.shared, c.splits) << "every split should be on the boundary";
