@@ -92,7 +92,7 @@ void Grid::state(Ar& ar) {
 
 template <class Ar>
 void ForceAssembler::state(Ar& ar) {
-  io_all(ar, blocks_, force_, element_force_, viscous_power_, viscous_work_, block_power_, volume_,
+  io_all(ar, blocks_, force_, element_force_, viscous_power_, viscous_work_, volume_,
          sigma1_bound_,
          alpha1_, node_start_, node_end_, node_entries_);
 }

@@ -134,7 +134,6 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       element_force_(12 * grid.num_cells(), 0.0),
       viscous_power_(kLanes * blocks_.size(), 0.0),
       viscous_work_(kLanes * blocks_.size(), 0.0),
-      block_power_(blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
       sigma1_bound_(kLanes * blocks_.size(), 0.0),
       alpha1_(kLanes * blocks_.size(), 3.0) {
@@ -376,9 +375,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
     }
 
     // Forces and stress per element. An inverted, degenerate or NaN element keeps its old
-    // forces and stress and adds no viscous power; its other values are not meaningful (the
-    // step is abandoned).
-    double block_power = 0.0;
+    // forces and stress; its other values are not meaningful (the step is abandoned before
+    // its viscous power is booked).
     for (int l = 0; l < lanes; ++l) {
       const vtkIdType e = e0 + l;
       if (!(p.J[l] > 0.0)) {
@@ -387,9 +385,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
       }
       for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
       for (int k = 0; k < 6; ++k) stress[6 * e + k] = r.s[k][l];
-      block_power += power[l];
     }
-    block_power_[b] = block_power;
   }
 
   return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
@@ -475,10 +471,5 @@ ExactSum ForceAssembler::viscous_work(const Grid& grid, const std::uint8_t* coun
   return total;
 }
 
-double ForceAssembler::viscous_power() const {
-  double sum = 0.0;
-  for (double p : block_power_) sum += p;
-  return sum;
-}
 
 }  // namespace brittle

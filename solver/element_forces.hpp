@@ -114,8 +114,6 @@ class ForceAssembler {
   /// Nodal element forces, 3 per point, from the last compute() (and any gather since).
   const std::vector<double>& nodal_forces() const { return force_; }
 
-  /// Sum over elements of the viscous power from the last compute() (deterministic order).
-  double viscous_power() const;
   /// Adds dt x its viscous power to every element's viscous work (one running sum per
   /// element: the same bits for any thread or rank count).
   void accumulate_viscous_work(const Grid& grid, double dt);
@@ -174,7 +172,6 @@ class ForceAssembler {
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
   std::vector<double> viscous_power_;   // 1 per element
   std::vector<double> viscous_work_;    // 1 per element: integral of its viscous power
-  std::vector<double> block_power_;     // 1 per block: its elements' viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element
   std::vector<double> alpha1_;          // 1 per element

@@ -251,9 +251,7 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
     i += 7 + cells;
     splits.push_back(std::move(s));
   }
-  std::sort(failures.begin(), failures.end(), [](const GlobalFailure& p, const GlobalFailure& q) {
-    return std::tie(p.a, p.b, p.A_c) < std::tie(q.a, q.b, q.A_c);
-  });
+  std::sort(failures.begin(), failures.end(), node_order);
   // The serial order (Fracture::candidates): decreasing sigma1, then node id.
   std::sort(splits.begin(), splits.end(), [](const GlobalSplit& p, const GlobalSplit& q) {
     return std::tie(q.sigma1, p.a) < std::tie(p.sigma1, q.a);

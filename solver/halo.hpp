@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <utility>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "exact_sum.hpp"
@@ -38,6 +39,11 @@ struct GlobalFailure {
 /// "rank R: <error>" (rank 0's as it is); empty if no rank has one. Collective over
 /// MPI_COMM_WORLD: a rank that fails alone must not leave the others waiting.
 std::string first_error(const std::string& mine);
+
+/// The event catalogue's order of the link failures within a step: by their nodes' ids.
+inline bool node_order(const GlobalFailure& p, const GlobalFailure& q) {
+  return std::tie(p.a, p.b, p.A_c) < std::tie(q.a, q.b, q.A_c);
+}
 
 /// One rank's view of the decomposition and its messages (MPI_COMM_WORLD). Every call is
 /// collective: all ranks make the same calls in the same order.

@@ -159,9 +159,7 @@ void Simulation::step() {
     for (const CohesiveLink& l : links_.removed())
       failures.push_back({l.a, l.b, {X[3 * l.a], X[3 * l.a + 1], X[3 * l.a + 2]}, l.dissipated,
                           l.A_c});
-    std::sort(failures.begin(), failures.end(), [](const GlobalFailure& p, const GlobalFailure& q) {
-      return std::tie(p.a, p.b, p.A_c) < std::tie(q.a, q.b, q.A_c);
-    });
+    std::sort(failures.begin(), failures.end(), node_order);
     global_splits_.clear();
     for (const SplitRecord& split : r.splits) {
       const double* p = X + 3 * split.a;
