@@ -21,8 +21,12 @@ namespace brittle {
 Spectrum amplitude_spectrum(const std::vector<double>& times, const std::vector<double>& values) {
   Spectrum s;
   if (times.size() < 4) return s;
-  double step = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i < times.size(); ++i) step = std::min(step, times[i] - times[i - 1]);
+  // The median spacing: the steps are nearly even (a step before a frame or the end is up to
+  // half as long), and a short one must not multiply the samples (nor the memory).
+  std::vector<double> gaps;
+  for (std::size_t i = 1; i < times.size(); ++i) gaps.push_back(times[i] - times[i - 1]);
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  const double step = gaps[gaps.size() / 2];
   if (!(step > 0)) return s;
   const double span = times.back() - times.front();
   const std::size_t n = static_cast<std::size_t>(std::floor(span / step * (1 + 1e-12))) + 1;

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <tuple>
 
 #include "checkpoint.hpp"
@@ -131,23 +133,32 @@ void Simulation::decompose(Halo& halo) {
   dt_ = initial_dt_ = stable.dt;
 }
 
-void Simulation::step() {
-  last_step_ = integrator_.step(time_, dt_);
+void Simulation::step_towards(double until) {
+  double h = dt_, next = time_ + dt_;
+  const double left = until - time_;
+  if (left <= dt_ * (1 + 1e-9)) {  // lands on `until` (the same bits on every rank)
+    h = left;
+    next = until;
+  } else if (left < 2 * dt_) {  // two equal steps instead of dt and a sliver
+    h = 0.5 * left;
+    next = time_ + h;
+  }
+  last_step_ = integrator_.step(time_, h);
   const StepReport& r = last_step_;
   if (r.substeps_capped && substep_cap_steps_++ == 0)
     step_warnings_.push_back(error_message("the cohesive links needed more than ",
                                            CohesiveLinks::max_substeps,
-                                           " sub-steps at t = ", time_ + dt_,
+                                           " sub-steps at t = ", next,
                                            " s: the stiffest link spring is under-resolved "
                                            "(energy budget may drift; try a smaller run.cfl)"));
   if (r.bad_element >= 0) {
-    throw Error(error_message("blow-up at t = ", time_ + dt_, " s (step ", steps_ + 1,
+    throw Error(error_message("blow-up at t = ", next, " s (step ", steps_ + 1,
                               "): element ", r.bad_element,
                               " inverted or NaN; try a smaller run.cfl"));
   }
   PhaseClock clock;
   damage_dissipated_ += r.damage_dissipated;
-  time_ += dt_;
+  time_ = next;
   // The events of the step, by global node ids: link failures ordered by their nodes, then
   // splits in the splitting order. A decomposed run gathers every rank's.
   std::vector<GlobalFailure> failures;
@@ -299,7 +310,13 @@ std::vector<double> frame_times(const Scene& scene) {
     times = o.frame_times;
   } else if (o.frame_interval > 0) {
     const long n = static_cast<long>(std::floor(end / o.frame_interval * (1 + 1e-12)));
-    for (long k = 0; k <= n; ++k) times.push_back(k * o.frame_interval);
+    // k * interval to 15 significant digits: the decimal a user writes ("5e-6" for the fifth
+    // 1 us frame, not 5.000000000000001e-06), so that a frame and an end time meet exactly.
+    for (long k = 0; k <= n; ++k) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.15g", k * o.frame_interval);
+      times.push_back(std::strtod(text, nullptr));
+    }
   }
   if (!scene.render.times.empty()) {  // [render] times are frames too
     times.insert(times.end(), scene.render.times.begin(), scene.render.times.end());
@@ -419,13 +436,18 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   try {
     bool frame_now = resumed_ ? false : emit_here();
     bool interrupted = false;
-    while (time_ < scene_.run.end_time - 0.5 * dt_) {
+    while (time_ < scene_.run.end_time) {
       if (agreed(stop_requested())) {
         interrupted = true;
         break;
       }
       const auto t0 = std::chrono::steady_clock::now();
-      step();
+      // Frames land on their times, and the run on run.end_time (the step before is shorter).
+      // (A frame within a millionth of a step of the end is the end's frame: no sliver step.)
+      const double end = scene_.run.end_time;
+      step_towards(p.next_frame < frames.size() && frames[p.next_frame] < end - 1e-6 * dt_
+                       ? frames[p.next_frame]
+                       : end);
       p.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       for (const std::string& w : take_step_warnings()) warn(w);
       for (Observer* o : observers) o->on_step(*this);

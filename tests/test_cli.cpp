@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -957,6 +958,43 @@ TEST(Executable, ProgressLinesAndRunLog) {
   const std::string first = "tets, dt = ";
   EXPECT_NE(log.find(first), std::string::npos) << log;
   EXPECT_EQ(log.find(first), log.rfind(first)) << log;
+}
+
+// Frames land exactly on the requested times (issue 15): the step before a frame, and the
+// last step, are shortened. The .pvd, each frame's TimeValue, the PNG names of render.times and
+// the summary's end time are the decimals of the scene, to the bit.
+TEST(Executable, FramesLandExactlyOnTheRequestedTimes) {
+  TempDir dir;
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  // the frames asked, with render.times 1 and 2.1 us (frames too)
+  const std::vector<double> listed = {0.37e-6, 1e-6, 2.1e-6, 2.5e-6, 3e-6};
+  const std::vector<double> every = {0, 0.7e-6, 1e-6, 1.4e-6, 2.1e-6, 2.8e-6};  // every 0.7 us
+  for (const bool list : {true, false}) {
+    const fs::path out = dir / (list ? "list" : "interval");
+    const Result r = run_brittle(
+        dir, {"run", scenes + "cm.ini", "--set", "mesh.size=2e-3", "--set", "run.end_time=3e-6",
+              "--set",
+              list ? "output.frame_times=0.37e-6, 1e-6, 2.5e-6, 3e-6" : "output.frame_interval=0.7e-6",
+              "--set", "render.times=1e-6, 2.1e-6", "--set", "render.fields=sigma1", "--out",
+              out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto entries = brittle::read_pvd((out / "run.pvd").string());
+    std::vector<double> times;
+    for (const auto& e : entries) {
+      times.push_back(e.time);
+      auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+      reader->SetFileName(e.file.c_str());
+      reader->Update();
+      vtkDataArray* t = reader->GetOutput()->GetFieldData()->GetArray("TimeValue");
+      ASSERT_NE(t, nullptr) << e.file;
+      EXPECT_EQ(t->GetTuple1(0), e.time) << e.file;
+    }
+    EXPECT_EQ(times, list ? listed : every);
+    const nlohmann::json s = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s.at("time").get<double>(), 3e-6);
+    for (const char* png : {"sigma1_001.000us.png", "sigma1_002.100us.png"})
+      EXPECT_TRUE(fs::exists(out / "render" / png)) << png;
+  }
 }
 
 // A run into a directory an earlier, longer run used removes that run's frames (and says so)
