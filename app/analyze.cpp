@@ -81,14 +81,17 @@ int analyze_command(const std::vector<std::string>& args) {
   double min_length = -1;
   opts.add_options()("help,h", "show this help")(
       "min-branch-length", po::value(&min_length),
-      "tracks shorter than this are spurs [m] (default: the run's fracture.min_branch_length)")(
-      "run", po::value(&dirs)->composing(), "run directory");
-  auto vm = parse_command_line(args, opts, "run");
+      "tracks shorter than this are spurs [m] (default: the run's "
+      "fracture.min_branch_length)");
+  po::options_description hidden;
+  hidden.add_options()("run", po::value(&dirs)->composing(), "run directory");
+  auto vm = parse_command_line(args, opts, hidden, "run");
   if (vm.count("help")) {
-    std::printf("usage: brittle analyze RUN_DIR [--min-branch-length L]\n");
-    std::ostringstream text;
-    text << opts;
-    std::printf("%s", text.str().c_str());
+    print_command_help(std::cout, "usage: brittle analyze RUN_DIR [--min-branch-length L]",
+                       "Rebuilds the crack pattern of a finished run from its events: writes "
+                       "RUN_DIR/branches.csv, RUN_DIR/pattern.json and the acoustic-emission "
+                       "charts (docs/crack_pattern.md, docs/acoustic_emission.md).",
+                       opts);
     return 0;
   }
   po::notify(vm);

@@ -121,19 +121,24 @@ int chart_command(const std::vector<std::string>& args) {
   std::vector<std::string> sweeps;
   std::string out, title = "Crack speed against strain energy";
   po::options_description opts("brittle chart options");
-  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(),
-                                                 "PNG to write")(
-      "title", po::value(&title), "chart title")("sweep", po::value(&sweeps)->composing(),
-                                                 "sweep directories, each optionally DIR=LABEL");
-  auto vm = parse_command_line(args, opts, "sweep");
+  opts.add_options()("help,h", "show this help")(
+      "out", po::value(&out)->required(),
+      "directory (created) for crack_speed.png and crack_speed.csv (the chart's points)")(
+      "title", po::value(&title), "chart title");
+  po::options_description hidden;
+  hidden.add_options()("sweep", po::value(&sweeps)->composing(), "sweep directories");
+  auto vm = parse_command_line(args, opts, hidden, "sweep");
   if (vm.count("help")) {
-    std::ostringstream text;
-    text << "usage: brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n" << opts;
-    std::printf("%s", text.str().c_str());
+    print_command_help(std::cout, "usage: brittle chart SWEEP_DIR[=LABEL] ... --out DIR [--title T]",
+                       "Draws the crack speed of finished sweeps against the strain energy W, over "
+                       "the Zhou et al. fit (the paper's Figs. 5-6): DIR/crack_speed.png, and "
+                       "DIR/crack_speed.csv with every point (columns: docs/output.md).",
+                       opts);
     return 0;
   }
   po::notify(vm);
   BRITTLE_CHECK(!sweeps.empty(), "brittle chart: no sweep directory given");
+  check_out_directory("chart", out, "crack_speed.png and crack_speed.csv");
   std::vector<SweepSeries> series;
   for (const std::string& s : sweeps) {
     const auto eq = s.find('=');
@@ -141,9 +146,10 @@ int chart_command(const std::vector<std::string>& args) {
     series.push_back(read_sweep(
         dir, eq == std::string::npos ? fs::path(dir).filename().string() : s.substr(eq + 1)));
   }
-  write_speed_chart(out, title, series);
-  write_series_csv(fs::path(out).replace_extension(".csv").string(), series);
-  std::printf("wrote %s\n", out.c_str());
+  fs::create_directories(out);
+  write_speed_chart(out + "/crack_speed.png", title, series);
+  write_series_csv(out + "/crack_speed.csv", series);
+  std::printf("wrote %s/crack_speed.png and crack_speed.csv\n", out.c_str());
   return 0;
 }
 
@@ -152,22 +158,25 @@ int tips_command(const std::vector<std::string>& args) {
   std::string out, title = "Speed of the leading crack tip";
   double rayleigh = 0, window = 1e-6;
   po::options_description opts("brittle tips options");
-  opts.add_options()("help,h", "show this help")("out", po::value(&out)->required(),
-                                                 "PNG to write")(
-      "title", po::value(&title), "chart title")("rayleigh", po::value(&rayleigh),
-                                                 "draw the Rayleigh speed [m/s] as a dashed line")(
-      "run", po::value(&runs)->composing(), "run directories, each optionally DIR=LABEL");
-  auto vm = parse_command_line(args, opts, "run");
+  opts.add_options()("help,h", "show this help")(
+      "out", po::value(&out)->required(), "directory (created) for tip_speed.png")(
+      "title", po::value(&title), "chart title")(
+      "rayleigh", po::value(&rayleigh), "draw the Rayleigh speed [m/s] as a dashed line");
+  po::options_description hidden;
+  hidden.add_options()("run", po::value(&runs)->composing(), "run directories");
+  auto vm = parse_command_line(args, opts, hidden, "run");
   if (vm.count("help")) {
-    std::ostringstream text;
-    text << "usage: brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V] "
-            "[--window S]\n"
-         << opts;
-    std::printf("%s", text.str().c_str());
+    print_command_help(std::cout,
+                       "usage: brittle tips RUN_DIR[=LABEL] ... --out DIR [--title T] "
+                       "[--rayleigh V]",
+                       "Draws the leading crack tip's speed against time from each run's "
+                       "crack_tip.csv (a 1 us moving average): DIR/tip_speed.png.",
+                       opts);
     return 0;
   }
   po::notify(vm);
   BRITTLE_CHECK(!runs.empty(), "brittle tips: no run directory given");
+  check_out_directory("tips", out, "tip_speed.png");
   std::vector<render::ChartSeries> lines;
   double t_max = 0, v_max = rayleigh;
   for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -222,8 +231,9 @@ int tips_command(const std::vector<std::string>& args) {
   axes.y_title = "tip speed  [m/s]";
   axes.x_min = 0, axes.x_max = t_max > 0 ? t_max : 1, axes.y_min = 0;
   axes.y_max = rayleigh > 0 ? std::min(1.6 * rayleigh, 1.1 * v_max) : v_max > 0 ? 1.1 * v_max : 1;
-  render::write_chart_png(out, axes, lines);
-  std::printf("wrote %s\n", out.c_str());
+  fs::create_directories(out);
+  render::write_chart_png(out + "/tip_speed.png", axes, lines);
+  std::printf("wrote %s/tip_speed.png\n", out.c_str());
   return 0;
 }
 
@@ -241,24 +251,34 @@ std::string last_line(const std::string& path) {
 int reproduce_command(const std::vector<std::string>& args) {
   std::string out = "out/figures", scenes, loads = "0.4:1.0:0.05", meshes = "cm,rm";
   int jobs = 0;
-  bool no_frames = false;
+  std::string frames_word = "yes";
   po::options_description opts("brittle reproduce options");
-  opts.add_options()("help,h", "show this help")("out", po::value(&out), "output directory")(
+  opts.add_options()("help,h", "show this help")(
+      "out", po::value(&out),
+      "directory (created) for the figures, their CSVs, sweeps/ and runs/ (default out/figures)")(
       "scenes", po::value(&scenes),
       "directory of the shipped scenes (default: the installed or source tree's scenes/)")(
       "loads", po::value(&loads), "loads of every sweep (first:last:step or a list)")(
       "meshes", po::value(&meshes), "meshes to sweep: cm, rm or cm,rm")(
       "jobs", po::value(&jobs), "runs at once (0 = number of cores)")(
-      "no-frames", po::bool_switch(&no_frames), "skip Figs. 7-10");
-  auto vm = parse_command_line(args, opts, nullptr);
+      "frames", po::value(&frames_word)->implicit_value("yes"),
+      "yes (default): also run and draw Figs. 7-10 from VTU frames; no: Figs. 5-6 only");
+  po::options_description hidden;  // the earlier spelling
+  hidden.add_options()("no-frames", "same as --frames no");
+  auto vm = parse_command_line(args, opts, hidden, nullptr);
   if (vm.count("help")) {
-    std::ostringstream text;
-    text << "usage: brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]\n"
-         << opts;
-    std::printf("%s", text.str().c_str());
+    print_command_help(std::cout,
+                       "usage: brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] "
+                       "[--jobs N] [--frames yes|no]",
+                       "Regenerates the paper's figures: the eight load sweeps of Figs. 5-6 "
+                       "(fig05.png, fig06b.png with their CSVs and fit_errors.txt) and, unless "
+                       "--frames no, Figs. 7-10 (fig07.png ... fig10.png). docs/reproduction.md.",
+                       opts);
     return 0;
   }
   po::notify(vm);
+  const bool no_frames = vm.count("no-frames") || !parse_switch("--frames", frames_word);
+  check_out_directory("reproduce", out, "fig05.png ... fig10.png");
   // Options first: bad input stops the command before anything is read or written.
   const std::vector<std::string> chosen = list_words(meshes);
   BRITTLE_CHECK(!chosen.empty(), "--meshes '", meshes,

@@ -34,24 +34,24 @@ namespace po = boost::program_options;
 namespace {
 
 const char* kUsage =
-    "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
-    "       brittle run --resume RUN_DIR [--set run.end_time=T]  (continue a stopped run)\n"
-    "       brittle run --help      (every scene key with default, unit and meaning)\n"
-    "       brittle render RUN_DIR/run.pvd [SCENE.ini ...] [--times T,...] [--field F ...] "
-    "[--set render.key=value ...] [--out DIR]\n"
-    "       brittle chart SWEEP_DIR[=LABEL] ... --out FIG.png [--title T]\n"
-    "       brittle tips RUN_DIR[=LABEL] ... --out FIG.png [--title T] [--rayleigh V]\n"
-    "       brittle analyze RUN_DIR [--min-branch-length L]  (branches, crack area; "
-    "docs/crack_pattern.md)\n"
-    "       brittle reproduce [--out DIR] [--loads SPEC] [--meshes cm,rm] [--jobs N]  (Figs. "
-    "5-10)\n"
-    "       brittle figure SCENE.ini [MORE.ini ...] [--set ...] [--runs DIR] [--out DIR] "
-    "[--reuse]\n"
-    "       brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set ...] [--jobs N] "
-    "[--out DIR]\n"
-    "       brittle study mesh SCENE.ini [MORE.ini ...] --sizes 1e-3,500e-6 [--case "
-    "LABEL[=A.ini,...] ...] [--jobs N] [--out DIR]  (docs/mesh-study.md)\n"
-    "       brittle --version\n";
+    "usage: brittle COMMAND [ARGUMENTS] [--out DIR]    (brittle COMMAND --help: its options)\n"
+    "\n"
+    "  run SCENE.ini [MORE.ini ...] [--set section.key=value ...]   one simulation\n"
+    "  run --resume RUN_DIR [--set run.end_time=T]                   continue a stopped run\n"
+    "  render RUN_DIR [SCENE.ini ...] [--times T,...] [--fields F,...]  PNG frames of a run\n"
+    "  analyze RUN_DIR                      crack pattern and acoustic emission of a run\n"
+    "  sweep SCENE.ini ... --loads 0.4:1.0:0.05   one run per load, crack speeds\n"
+    "  study mesh SCENE.ini ... --sizes 1e-3,500e-6   the mesh-size study\n"
+    "  chart SWEEP_DIR[=LABEL] ...          crack speed against W of finished sweeps\n"
+    "  tips RUN_DIR[=LABEL] ...             tip speed against time of finished runs\n"
+    "  figure SCENE.ini [MORE.ini ...]      the paper's Figs. 7-10 for a scene\n"
+    "  reproduce                            every reproduced figure (Figs. 5-10)\n"
+    "  partition SCENE.ini --ranks 2,4,8    how mpirun would split the plate\n"
+    "  --version\n"
+    "\n"
+    "--out is always a directory (created): the run's directory for run, one run directory per\n"
+    "load or size for sweep and study, the PNGs for render, figure, chart and tips.\n"
+    "Under mpirun, run, sweep, study and reproduce share the ranks (docs/parallel.md).\n";
 
 /// Progress on stderr (steps, simulated time, crack tip, ETA): rewritten in place every 0.5 s
 /// when stderr is a terminal, and as a line every `every` steps when asked (--progress: batch
@@ -178,7 +178,7 @@ int run_command(const std::vector<std::string>& args) {
   std::string out;
   opts.add_options()("help,h", "list every scene key with its default, unit and meaning")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
-      "out", po::value(&out), "output directory (overrides output.directory)")(
+      "out", po::value(&out), "directory (created) of the run (as output.directory)")(
       "profile", "print the wall time of each phase of the step (also in summary.json)")(
       "progress", po::value<long>()->implicit_value(100),
       "print a progress line every N steps (default 100), also when stderr is not a terminal "
@@ -190,15 +190,24 @@ int run_command(const std::vector<std::string>& args) {
       "writes as DIR/scene.ini) and write nothing")(
       "resume", po::value<std::string>(),
       "continue the run in DIR from DIR/checkpoint.bin (with --set run.end_time=T to extend "
-      "it); no scene files")(
-      "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
-  auto vm = brittle::parse_command_line(args, opts, "scene");
-  po::notify(vm);
+      "it); no scene files");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value(&files)->composing(), "scene INI files");
+  auto vm = brittle::parse_command_line(args, opts, hidden, "scene");
   if (vm.count("help")) {
-    std::cout << kUsage << "\n" << opts << "\nScene keys (INI sections [section], key = value):\n";
+    brittle::print_command_help(
+        std::cout,
+        "usage: brittle run SCENE.ini [MORE.ini ...] [--set section.key=value ...] [--out DIR]\n"
+        "       brittle run --resume RUN_DIR [--set run.end_time=T]",
+        "Runs one simulation. Later scene files override earlier ones, --set overrides them "
+        "all. The run directory gets scene.ini, summary.json, run.log, the CSVs and the frames "
+        "(docs/output.md). Under mpirun the run is decomposed over the ranks (docs/parallel.md).",
+        opts);
+    std::cout << "\nScene keys (INI sections [section], key = value):\n";
     brittle::print_scene_keys(std::cout);
     return 0;
   }
+  po::notify(vm);
   const long every = vm.count("progress") ? vm["progress"].as<long>() : 0;
   BRITTLE_CHECK(every >= 0, "--progress ", every, ": expected a number of steps >= 1");
   Progress progress(vm.count("profile") > 0, every);

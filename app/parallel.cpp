@@ -240,14 +240,19 @@ int partition_command(const std::vector<std::string>& args) {
       "ranks", po::value(&ranks)->default_value("2,4,8"), "rank counts, comma separated")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out),
-      "also write DIR/partition_<ranks>.vtu: cell data rank, point data owner (for ParaView)")(
-      "scene", po::value(&files)->composing(), "scene INI files, later ones override earlier");
-  auto vm = parse_command_line(args, opts, "scene");
+      "directory (created) for DIR/partition_<ranks>.vtu: cell data rank, point data owner "
+      "(for ParaView); without it nothing is written");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value(&files)->composing(), "scene INI files");
+  auto vm = parse_command_line(args, opts, hidden, "scene");
   if (vm.count("help")) {
-    std::ostringstream text;
-    text << opts;
-    std::printf("usage: brittle partition SCENE.ini [MORE.ini ...] [--ranks 2,4,8] [--set k=v ...] "
-                "[--out DIR]\n%s", text.str().c_str());
+    print_command_help(std::cout,
+                       "usage: brittle partition SCENE.ini [MORE.ini ...] [--ranks 2,4,8] "
+                       "[--set k=v ...] [--out DIR]",
+                       "Meshes the scene's plate and partitions it as `mpirun -np N brittle run` "
+                       "would, and prints the ghost nodes, redundant cells and imbalance of each "
+                       "rank count (docs/parallel.md).",
+                       opts);
     return 0;
   }
   po::notify(vm);

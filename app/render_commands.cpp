@@ -145,28 +145,37 @@ std::unique_ptr<Observer> make_render_observer(const Scene& scene) {
 int render_command(const std::vector<std::string>& args) {
   const char* usage =
       "usage: brittle render RUN_DIR[/run.pvd] [SCENE.ini ...] [--times T1,T2,...] "
-      "[--field sigma1|damage|crack ...] [--set render.key=value ...] [--out DIR] [--panel FILE.png "
-      "[--title T]]";
+      "[--fields sigma1,damage,crack] [--set render.key=value ...] [--out DIR] "
+      "[--panel NAME.png [--title T]]";
   po::options_description opts("brittle render options");
   std::vector<std::string> inputs, sets, field_options;
   std::string times_text, out, panel_path, title;
   opts.add_options()("help,h", "this help")(
       "times", po::value(&times_text),
-      "times in s, comma separated (default: render.times, else every stored frame)")(
-      "field", po::value(&field_options)->composing(),
-      "sigma1, damage and/or crack, repeatable or comma separated (default: render.fields)")(
+      "times in s, comma separated (as render.times; default: render.times, else every stored "
+      "frame)")("fields", po::value(&field_options)->composing(),
+                "sigma1, damage and/or crack, comma separated or repeated (as render.fields; "
+                "default: render.fields)")(
       "set", po::value(&sets)->composing(), "override one [render] key: render.key=value")(
-      "out", po::value(&out), "where the PNGs go (default: render.directory, else RUN_DIR/render)")(
-      "panel", po::value(&panel_path),
-      "also lay the frames out in one PNG: a row per field, a column per time")(
-      "title", po::value(&title), "title across the top of the panel")(
-      "input", po::value(&inputs)->composing(), "the .pvd, then scene files for [render] keys");
-  auto vm = parse_command_line(args, opts, "input");
-  po::notify(vm);
+      "out", po::value(&out),
+      "directory (created) for the PNGs (as render.directory; default: render.directory, else "
+      "RUN_DIR/render)")("panel", po::value(&panel_path),
+                         "also lay the frames out in DIR/NAME.png: a row per field, a column "
+                         "per time")("title", po::value(&title), "title across the top of the panel");
+  po::options_description hidden;
+  hidden.add_options()("input", po::value(&inputs)->composing(), "the .pvd, then scene files")(
+      "field", po::value(&field_options)->composing(), "the earlier spelling of --fields");
+  auto vm = parse_command_line(args, opts, hidden, "input");
   if (vm.count("help")) {
-    std::cout << usage << "\n\n" << opts;
+    print_command_help(std::cout, usage,
+                       "Renders stored frames of a run (RUN_DIR or RUN_DIR/run.pvd; a decomposed "
+                       "run's .pvtu pieces are joined) into PNGs named <field>_<time>us.png, in "
+                       "the style of the [render] keys of the scene files given after it and of "
+                       "--set (docs/rendering.md).",
+                       opts);
     return 0;
   }
+  po::notify(vm);
   BRITTLE_CHECK(!inputs.empty(), "brittle render: no time series given (", usage, ")");
   // A run directory means its run.pvd; links.pvd holds lines, not the plate's cells.
   std::string pvd = inputs.front();
@@ -192,6 +201,11 @@ int render_command(const std::vector<std::string>& args) {
                                 : !scene.render.directory.empty()
                                     ? scene.render.directory
                                     : (fs::path(pvd).parent_path() / "render").string();
+  if (!out.empty()) check_out_directory("render", out, "the PNG frames");
+  BRITTLE_CHECK(panel_path.empty() || fs::path(panel_path).extension() == ".png", "--panel '",
+                panel_path, "': expected a PNG file name (NAME.png, written in the --out directory)");
+  if (!panel_path.empty() && !fs::path(panel_path).has_parent_path())
+    panel_path = (fs::path(directory) / panel_path).string();
 
   render::FrameRenderer renderer(scene.render);
   double seconds = 0;
@@ -237,20 +251,22 @@ int figure_command(const std::vector<std::string>& args) {
   std::string runs = "out/figures", out = "figures";
   opts.add_options()("help,h", "this help")("set", po::value(&sets)->composing(),
                                             "override one key for all four runs")(
-      "runs", po::value(&runs), "where the four runs go (default out/figures)")(
-      "out", po::value(&out), "where fig07.png ... fig10.png go (default figures)")(
-      "reuse", "take existing runs in --runs when they hold frames at every row time")(
-      "scene", po::value(&files)->composing(), "base scene and overlays");
-  auto vm = parse_command_line(args, opts, "scene");
-  po::notify(vm);
+      "runs", po::value(&runs), "directory (created) for the four runs (default out/figures)")(
+      "out", po::value(&out), "directory (created) for fig07.png ... fig10.png (default figures)")(
+      "reuse", "take existing runs in --runs when they hold frames at every row time");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value(&files)->composing(), "base scene and overlays");
+  auto vm = parse_command_line(args, opts, hidden, "scene");
   if (vm.count("help")) {
-    std::cout << usage
-              << "\n\nRuns straight and branching fracture at 60 % and 90 % of sigma_c "
-                 "(rows: render.times, default 1, 15, 30 us) and lays the frames out as the "
-                 "paper's Figs. 7-10.\n\n"
-              << opts;
+    print_command_help(std::cout, usage,
+                       "Runs straight and branching fracture at 60 % and 90 % of sigma_c (rows: "
+                       "render.times, default 1, 15, 30 us) and lays the frames out as the "
+                       "paper's Figs. 7-10.",
+                       opts);
     return 0;
   }
+  po::notify(vm);
+  check_out_directory("figure", out, "fig07.png ... fig10.png");
   BRITTLE_CHECK(!files.empty(), "brittle figure: no scene file given (", usage, ")");
 
   const Scene base = load_scene(files, sets);

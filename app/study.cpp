@@ -493,7 +493,13 @@ int study_command(const std::vector<std::string>& args) {
   const char* usage =
       "usage: brittle study mesh SCENE.ini [MORE.ini ...] --sizes 1e-3,500e-6,... "
       "[--case LABEL[=A.ini,B.ini] ...] [--set k=v ...] [--layers auto|scene] [--jobs N] "
-      "[--frames] [--reuse] [--out DIR]\n";
+      "[--frames yes|no] [--reuse] [--out DIR]";
+  const char* about =
+      "Runs every case at every element size h (uniform meshes, child processes) into "
+      "DIR/<case>/h_<h>/ and tabulates branches, crack area, dissipation, speed and "
+      "acoustic emission against h: DIR/study.csv, study.json and study_*.png "
+      "(docs/mesh-study.md). Every case and size is checked before any run starts.";
+  std::string frames = "no";
   MeshStudyOptions o;
   std::string sizes, layers = "auto";
   std::vector<std::string> cases;
@@ -507,30 +513,31 @@ int study_command(const std::vector<std::string>& args) {
       "layers", po::value(&layers)->default_value("auto"),
       "auto: max(1, round(T / h)) element layers through the thickness; scene: mesh.layers")(
       "jobs", po::value(&o.jobs)->default_value(0), "runs at once (0 = number of cores)")(
-      "frames", po::bool_switch(&o.frames),
-      "keep every run's VTU frames (for brittle render) and draw study_cracks.png")(
+      "frames", po::value(&frames)->implicit_value("yes"),
+      "yes: every run writes its VTU frames (output.vtu = true, for brittle render) and the "
+      "study draws study_cracks.png; no (default): none")(
       "reuse", po::bool_switch(&o.reuse),
       "do not re-run a run whose directory holds a completed run of the same scene and keys "
       "(extend a study by sizes or cases)")(
-      "out", po::value(&o.out)->default_value("out/study"), "output directory")(
-      "scene", po::value(&o.scenes)->composing(), "scene INI files, later ones override earlier");
+      "out", po::value(&o.out)->default_value("out/study"),
+      "directory (created) for the study's tables and charts and one run directory per case "
+      "and size");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value(&o.scenes)->composing(), "scene INI files");
   const bool asked_help = !args.empty() && (args[0] == "--help" || args[0] == "-h");
   if (args.empty() || asked_help) {
-    std::ostringstream text;
-    text << opts;
-    std::printf("%s%s", usage, text.str().c_str());
+    print_command_help(asked_help ? std::cout : std::cerr, usage, about, opts);
     return asked_help ? 0 : 2;
   }
   BRITTLE_CHECK(args[0] == "mesh", "brittle study: unknown study '", args[0],
                 "' (expected: brittle study mesh SCENE.ini ... --sizes LIST)");
-  auto vm = parse_command_line({args.begin() + 1, args.end()}, opts, "scene");
+  auto vm = parse_command_line({args.begin() + 1, args.end()}, opts, hidden, "scene");
   if (vm.count("help")) {
-    std::ostringstream text;
-    text << opts;
-    std::printf("%s%s", usage, text.str().c_str());
+    print_command_help(std::cout, usage, about, opts);
     return 0;
   }
   po::notify(vm);
+  o.frames = parse_switch("--frames", frames);
   o.sizes = parse_sizes(sizes);
   for (const std::string& c : cases) o.cases.push_back(parse_case(c));
   BRITTLE_CHECK(layers == "auto" || layers == "scene", "--layers '", layers,

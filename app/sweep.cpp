@@ -180,25 +180,33 @@ int sweep_command(const std::vector<std::string>& args) {
   namespace po = boost::program_options;
   SweepOptions o;
   std::string loads;
+  std::string frames = "no";
   po::options_description opts("brittle sweep options");
   opts.add_options()("help,h", "show this help")(
       "loads", po::value(&loads)->required(),
       "loads sigma/sigma_c: first:last:step (last included) or a comma list")(
       "set", po::value(&o.sets)->composing(), "override one key: section.key=value (repeatable)")(
       "jobs", po::value(&o.jobs)->default_value(0), "runs at once (0 = number of cores)")(
-      "out", po::value(&o.out)->default_value("out/sweep"), "output directory")(
-      "frames", po::bool_switch(&o.frames), "keep every run's VTU frames")(
-      "scene", po::value(&o.scenes)->composing(), "scene INI files, later ones override earlier");
-  auto vm = parse_command_line(args, opts, "scene");
+      "out", po::value(&o.out)->default_value("out/sweep"),
+      "directory (created) for sweep.csv and one run directory per load")(
+      "frames", po::value(&frames)->implicit_value("yes"),
+      "yes: every run writes its VTU frames (output.vtu = true); no (default): none");
+  po::options_description hidden;
+  hidden.add_options()("scene", po::value(&o.scenes)->composing(), "scene INI files");
+  auto vm = parse_command_line(args, opts, hidden, "scene");
   if (vm.count("help")) {
-    std::printf("usage: brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 [--set k=v ...] "
-                "[--jobs N] [--out DIR] [--frames]\n");
-    std::ostringstream text;
-    text << opts;
-    std::printf("%s", text.str().c_str());
+    print_command_help(std::cout,
+                       "usage: brittle sweep SCENE.ini [MORE.ini ...] --loads 0.4:1.0:0.05 "
+                       "[--set k=v ...] [--jobs N] [--out DIR] [--frames yes|no]",
+                       "Runs the scene once per load sigma/sigma_c (child processes, --jobs at "
+                       "once) into DIR/load_0.400/... and tabulates the crack speeds in "
+                       "DIR/sweep.csv (columns: docs/output.md). Every load's scene is checked "
+                       "before any run starts.",
+                       opts);
     return 0;
   }
   po::notify(vm);
+  o.frames = parse_switch("--frames", frames);
   o.loads = parse_loads(loads);
   BRITTLE_CHECK(o.jobs >= 0, "--jobs ", o.jobs, " is out of range (expected >= 0)");
   install_stop_handlers();

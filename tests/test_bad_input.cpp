@@ -107,10 +107,10 @@ TEST(BadInput, PlatesGmshCannotMesh) {
 // `brittle chart` on directories that are not sweeps, or whose files are broken.
 TEST(BadInput, ChartOfBrokenSweepDirectories) {
   TempDir dir;
-  Result r = run_brittle(dir, {"chart", (dir / "none").string(), "--out", (dir / "c.png").string()});
+  Result r = run_brittle(dir, {"chart", (dir / "none").string(), "--out", (dir / "c").string()});
   expect_refused(r, {"none"});
   dir.write("s/sweep.csv", "sigma_over_sigmac,W\n\x01\x02garbage\n");
-  r = run_brittle(dir, {"chart", (dir / "s").string(), "--out", (dir / "c.png").string()});
+  r = run_brittle(dir, {"chart", (dir / "s").string(), "--out", (dir / "c").string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }

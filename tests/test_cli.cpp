@@ -997,6 +997,70 @@ TEST(Executable, FramesLandExactlyOnTheRequestedTimes) {
   }
 }
 
+// One CLI (issue 15): every command's --help is its own usage, what it does and what its --out
+// is, without the other commands or the internal positional options; --out is a directory for
+// every command; option names are the scene keys' (--fields as render.fields, --frames yes|no
+// on sweep, study and reproduce).
+TEST(Executable, EveryCommandHasItsOwnHelpAndOneMeaningOfOut) {
+  TempDir dir;
+  const std::vector<std::string> commands = {"run",  "render", "analyze", "sweep", "chart",
+                                             "tips", "figure", "reproduce", "partition"};
+  for (const std::string& command : commands) {
+    std::vector<std::string> args = {command, "--help"};
+    if (command == "study") args = {"study", "--help"};
+    const Result r = run_brittle(dir, args);
+    EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
+    EXPECT_EQ(r.out.rfind("usage: brittle " + command, 0), 0u) << r.out;
+    for (const std::string& other : commands)
+      if (other != command)
+        EXPECT_FALSE(contains(r.out, "brittle " + other + " ")) << command << " help names " << other;
+    for (const char* internal : {"--scene ", "--input ", "--run ", "--sweep ", "--field ", "--no-frames"})
+      EXPECT_FALSE(contains(r.out, internal)) << command << " help shows " << internal;
+    const std::size_t out = r.out.find("--out arg");
+    if (command == "analyze") {  // writes into the run's own directory
+      EXPECT_EQ(out, std::string::npos);
+      continue;
+    }
+    ASSERT_NE(out, std::string::npos) << command;
+    EXPECT_TRUE(contains(r.out.substr(out, 60), "directory")) << r.out.substr(out, 80);
+  }
+  const Result study = run_brittle(dir, {"study", "--help"});
+  EXPECT_EQ(study.out.rfind("usage: brittle study mesh", 0), 0u) << study.out;
+  EXPECT_TRUE(contains(run_brittle(dir, {"--help"}).out, "--out is always a directory"));
+
+  // A file name given to --out is refused with what the command writes there.
+  const Result chart = run_brittle(dir, {"chart", (dir / "s").string(), "--out", "speed.PNG"});
+  EXPECT_EQ(chart.exit_code, 2);
+  EXPECT_TRUE(contains(chart.err, "--out is a directory for every command")) << chart.err;
+  EXPECT_TRUE(contains(chart.err, "crack_speed.png")) << chart.err;
+  const Result tips = run_brittle(dir, {"tips", (dir / "r").string(), "--out", "t.png"});
+  EXPECT_EQ(tips.exit_code, 2);
+  EXPECT_TRUE(contains(tips.err, "tip_speed.png")) << tips.err;
+  for (const char* command : {"sweep", "reproduce"}) {
+    const Result bad = run_brittle(
+        dir, {command, "--frames", "maybe", "--loads", "0.5", "--out", (dir / "x").string()});
+    EXPECT_EQ(bad.exit_code, 2) << command;
+    EXPECT_TRUE(contains(bad.err, "--frames 'maybe' is not one of: yes, no")) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "x")) << command << " wrote before refusing";
+  }
+
+  // render --fields (render.fields) into a directory; a panel is a PNG in that directory.
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  const fs::path run = dir / "run";
+  ASSERT_EQ(run_brittle(dir, {"run", scenes + "cm.ini", "--set", "mesh.size=2e-3", "--set",
+                              "run.end_time=1e-6", "--out", run.string()})
+                .exit_code,
+            0);
+  const Result render = run_brittle(dir, {"render", run.string(), "--fields", "sigma1,crack",
+                                          "--out", (dir / "png").string(), "--panel", "both.png"});
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  for (const char* png : {"sigma1_001.000us.png", "crack_001.000us.png", "both.png"})
+    EXPECT_TRUE(fs::exists(dir / "png" / png)) << png;
+  const Result file = run_brittle(dir, {"render", run.string(), "--out", (dir / "f.png").string()});
+  EXPECT_EQ(file.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "f.png"));
+}
+
 // A run into a directory an earlier, longer run used removes that run's frames (and says so)
 // and leaves every other file there as it was.
 TEST(Executable, ARunRemovesAnEarlierRunsFramesOnly) {

@@ -68,7 +68,7 @@ fs::path fresh_dir(const std::string& name) {
 }
 
 const std::string kQuickReproduce =
-    " reproduce --meshes cm --loads 0.9 --no-frames --jobs 2 --out out";
+    " reproduce --meshes cm --loads 0.9 --frames no --jobs 2 --out out";
 
 // Outside the repository (a temporary directory as the working directory) reproduce finds the
 // source tree's scenes and completes; its fit errors are numbers.

@@ -390,7 +390,7 @@ TEST(Mpi, DecomposedRunWritesTheSerialFiles) {
       // (a piece boundary is not a crack)
       for (const fs::path& run : {serial, out})
         ASSERT_EQ(shell(quote(BRITTLE_EXE) + " render " + quote((run / "run.pvd").string()) +
-                            " --field crack --field sigma1 --times 10e-6 --out " +
+                            " --fields crack,sigma1 --times 10e-6 --out " +
                             quote((run / "png").string()),
                         dir / "render.log"),
                   0)
