@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "build_info.hpp"
 #include "isolated_read.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
@@ -261,7 +262,9 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (args[0] == "--version" || args[0] == "version") {
-      std::cout << "brittle " << BRITTLE_VERSION << "\n";
+      const brittle::BuildInfo& build = brittle::build_info();
+      std::cout << "brittle " << build.version << " (commit " << build.commit << ", "
+                << build.compiler << ", " << build.build_type << " " << build.flags << ")\n";
       try {
         std::cout << "shipped scenes: " << brittle::bundled_scenes_directory() << "\n";
       } catch (const brittle::Error&) {

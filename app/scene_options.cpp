@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "build_info.hpp"
 #include "error.hpp"
 #include "lists.hpp"
 
@@ -1125,7 +1126,8 @@ std::string scene_ini(const Scene& scene) {
   out << "# The resolved scene of a run: every key, after the scene files and --set overrides\n"
          "# below, in the order of `brittle run --help`. `brittle run` on this file repeats the "
          "run.\n# brittle "
-      << BRITTLE_VERSION << "\n";
+      << build_info().version << " (commit " << build_info().commit << ", "
+      << build_info().compiler << ", " << build_info().build_type << ")\n";
   for (const std::string& s : scene.sources) out << "# source: " << s << "\n";
   std::string section;
   for (const auto& [name, value] : scene_entries(scene)) {

@@ -30,6 +30,7 @@
 #include "crack_pattern.hpp"
 #include "halo.hpp"
 #include "sensors.hpp"
+#include "build_info.hpp"
 #include "error.hpp"
 
 namespace fs = std::filesystem;
@@ -509,6 +510,12 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   };
   j["scene_sources"] = sim.scene().sources;
   j["brittle_version"] = BRITTLE_VERSION;
+  const BuildInfo& build = build_info();  // what made this binary
+  j["build"] = {{"version", build.version},
+                {"commit", build.commit},
+                {"compiler", build.compiler},
+                {"build_type", build.build_type},
+                {"flags", build.flags}};
   if (!sim.scene().resolved.empty()) {  // every key's value, as in the run's scene.ini
     nlohmann::json scene = nlohmann::json::object();
     for (const auto& [key, value] : sim.scene().resolved) scene[key] = value;

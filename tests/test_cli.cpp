@@ -587,7 +587,7 @@ TEST(Executable, Version) {
   TempDir dir;
   const Result r = run_brittle(dir, {"--version"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "brittle")) << r.out;
+  EXPECT_EQ(r.out.rfind(std::string("brittle ") + BRITTLE_VERSION + " (commit ", 0), 0u) << r.out;
 }
 
 TEST(Executable, RunHelpListsEveryKey) {
@@ -913,6 +913,13 @@ TEST(Executable, RunDirectorySceneRepeatsTheRun) {
     std::ifstream a(first / "summary.json"), b(again / "summary.json");
     nlohmann::json ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
     EXPECT_EQ(ja["brittle_version"], BRITTLE_VERSION);
+    // the build: the commit it was built from (or why none), compiler, type and flags
+    const nlohmann::json& build = ja.at("build");
+    EXPECT_EQ(build.at("version"), BRITTLE_VERSION);
+    EXPECT_GE(build.at("commit").get<std::string>().size(), 12u) << build;
+    EXPECT_TRUE(contains(build.at("compiler").get<std::string>(), ".")) << build;
+    EXPECT_FALSE(build.at("build_type").get<std::string>().empty()) << build;
+    EXPECT_TRUE(build.at("flags").is_string()) << build;
     EXPECT_EQ(ja["scene"]["output.directory"], first.string());
     EXPECT_EQ(ja["scene"]["run.end_time"], jb["scene"]["run.end_time"]);
     for (auto* j : {&ja, &jb}) {
