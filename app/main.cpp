@@ -118,6 +118,11 @@ class Progress : public brittle::Observer {
       }
       say("%s\n", text.c_str());
     }
+    if (s.stopped_at_cut)
+      say("brittle: the crack cut the plate through at t = %.3f us, (%.2f, %.2f) mm: stopped at "
+          "t = %.3f us of %.3f (--set run.stop_when_cut_through=false runs on)\n",
+          s.cut_through.t * 1e6, s.cut_through.x * 1e3, s.cut_through.y * 1e3, s.time * 1e6,
+          s.end_time * 1e6);
     if (s.splits == 0) return;
     const auto& fronts = sim.fronts();
     // A run too short for the speed window has no steady speed: say so, not "nan m/s".

@@ -299,7 +299,8 @@ int figure_command(const std::vector<std::string>& args) {
             overrides.end(),
             {"fracture.mode=" + mode, "loading.sigma_over_sigmac=" + error_message(load),
              "output.directory=" + dir, "output.frame_times=" + times_text, "output.vtu=true",
-             "run.end_time=" + error_message(times.back()), "render.times="});
+             "run.end_time=" + error_message(times.back()), "render.times=",
+             "run.stop_when_cut_through=false"});  // every row time has its frame
         const Scene scene = load_scene(files, overrides);
         std::cerr << "brittle figure: " << mode << " fracture at " << percent(load)
                   << " % of sigma_c -> " << dir << "\n";

@@ -405,6 +405,10 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("run.threads", &Scene::run, &RP::threads, "",
                       "OpenMP threads (0 = all cores)", "0 <= threads <= 1024",
                       [](const int& v) { return v >= 0 && v <= 1024; }));
+    k.push_back(field("run.stop_when_cut_through", &Scene::run, &RP::stop_when_cut_through, "",
+                      "stop once a crack from a notch has reached the plate's outer boundary "
+                      "(the summary's cut_through)",
+                      "true/false (also yes/no, on/off, 1/0)", [](const bool&) { return true; }));
     // [output]
     k.push_back(
         typed<std::string>("output.directory", "", "where frames, CSV files and the summary go",

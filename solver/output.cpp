@@ -553,6 +553,14 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["crack_area"] = measured("crack_area", s.crack_area);
   j["tip_x"] = measured("tip_x", s.tip_x);
   j["tip_y"] = measured("tip_y", s.tip_y);
+  if (s.cut_through.happened)  // the plate cut through: when, where, and whether the run stopped
+    j["cut_through"] = {{"t", number(s.cut_through.t)},
+                        {"x", number(s.cut_through.x)},
+                        {"y", number(s.cut_through.y)},
+                        {"tip", s.cut_through.tip},
+                        {"stopped", s.stopped_at_cut}};
+  else
+    j["cut_through"] = nullptr;
   j["crack_speed"] = number(s.crack_speed.speed);
   j["crack_speed_samples"] = s.crack_speed.samples;
   j["crack_speed_window"] = {number(s.crack_speed.t_begin), number(s.crack_speed.t_end)};

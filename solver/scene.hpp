@@ -171,6 +171,8 @@ struct RunParams {
   double end_time = 30e-6;  ///< simulated time [s]
   double cfl = 0.5;         ///< fraction of the stable time step
   int threads = 0;          ///< OpenMP threads (0 = all cores)
+  /// Stop once a crack from a notch has reached the plate's outer boundary (CutThrough).
+  bool stop_when_cut_through = true;
 };
 
 struct OutputParams {

@@ -16,6 +16,7 @@
 
 #include "checkpoint.hpp"
 #include "error.hpp"
+#include "partition.hpp"
 
 namespace brittle {
 namespace {
@@ -105,6 +106,13 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                 " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
   const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
+  // The plate's outline for the cut-through check: a rank's part of a decomposed run carries
+  // the whole mesh's bounds (extract_part).
+  double b[6];
+  reference_mesh.GetBounds(b);
+  if (vtkDataArray* whole = reference_mesh.GetFieldData()->GetArray(kWholeBounds))
+    for (int i = 0; i < 6; ++i) b[i] = whole->GetComponent(0, i);
+  std::copy(b, b + 4, plate_box_);
   initial_points_ = grid_.num_points();
   fixed_nodes_ = std::count_if(grid_.fixed(), grid_.fixed() + grid_.num_points(),
                                [](std::uint8_t f) { return (f & 7) != 0; });
@@ -185,9 +193,29 @@ void Simulation::step_towards(double until) {
     events_.push_back({time_, split.X[0], split.X[1], split.X[2], CrackEvent::Kind::split, 0.0,
                        split.A_c, split.a, split.b});
   }
+  if (!global_splits_.empty() && !cut_.happened) check_cut_through();
   ++steps_;
   if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
   clock.lap(own_times_.bookkeeping);
+}
+
+void Simulation::check_cut_through() {
+  // Every rank holds the same fronts (all splits are shared): the same verdict everywhere.
+  const std::vector<TipTrack>& tips = fronts_.tips();
+  // On the outline: the split node is a boundary node (the tolerance of region boxes).
+  const double margin = 1e-6 * std::hypot(plate_box_[1] - plate_box_[0], plate_box_[3] - plate_box_[2]);
+  for (const TipTrack& t : tips) {
+    if (t.path.empty()) continue;
+    const TipTrack* root = &t;
+    while (root->parent >= 0) root = &tips[root->parent];
+    if (root->origin != TipTrack::Origin::seed) continue;  // a nucleated crack cuts nothing yet
+    const TipSample head = fronts_.head(t.id);
+    if (head.x <= plate_box_[0] + margin || head.x >= plate_box_[1] - margin ||
+        head.y <= plate_box_[2] + margin || head.y >= plate_box_[3] - margin) {
+      cut_ = {true, head.t, head.x, head.y, t.id};
+      return;
+    }
+  }
 }
 
 PhaseTimes Simulation::phases() const {
@@ -456,6 +484,10 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         checkpoint();
         while (due(p.next_checkpoint)) p.next_checkpoint += checkpoint_interval;
       }
+      if (cut_.happened && scene_.run.stop_when_cut_through) {
+        summary.stopped_at_cut = true;
+        break;
+      }
     }
     agreed(false);  // a writer's failure at the last row or frame
     if (interrupted) {
@@ -470,6 +502,11 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       }
       summary.status = "interrupted";
     } else {
+      if (summary.stopped_at_cut && !frame_now) {  // the last frame shows the cut plate
+        update_output_fields();
+        for (Observer* o : observers) o->on_frame(*this);
+        ++p.frames_written;
+      }
       if (checkpoint_interval > 0 && !halo_ &&
           (summary.checkpoint.empty() || summary.checkpoint_time != time_))
         checkpoint();  // so that the run can be extended (--resume with a later run.end_time)
@@ -479,6 +516,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     summary.status = std::string("failed: ") + e.what();
     for (const std::string& w : take_step_warnings()) warn(w);  // they may explain the failure
   }
+  summary.cut_through = cut_;
   summary.warnings = p.warnings;
   summary.max_relative_imbalance = p.max_relative_imbalance;
   const double wall = p.wall_seconds;

@@ -59,6 +59,16 @@ struct Energies {
   }
 };
 
+/// The plate cut through: a crack running from a seed (a notch tip, through its branches; not a
+/// crack nucleated elsewhere) has split a node on the plate's outer boundary, the bounding box
+/// of the reference mesh in x and y (docs/scenes.md, run.stop_when_cut_through). Cohesive
+/// links may still bridge the last faces.
+struct CutThrough {
+  bool happened = false;
+  double t = 0, x = 0, y = 0;  ///< the split that reached it: time, reference position
+  int tip = -1;                ///< the tip (CrackFronts) that reached it
+};
+
 struct RunSummary {
   /// "completed", "interrupted" (a stop was requested: docs/checkpoint.md) or "failed: <reason>"
   std::string status = "running";
@@ -88,6 +98,8 @@ struct RunSummary {
   long checkpoints = 0;             ///< checkpoints written by this process
   std::size_t checkpoint_bytes = 0; ///< size of the last one
   double checkpoint_seconds = 0;    ///< wall time spent writing them (part of phases.output)
+  CutThrough cut_through;           ///< when and where the plate was cut through, if it was
+  bool stopped_at_cut = false;      ///< the run stopped there (run.stop_when_cut_through)
 };
 
 /// Where the step loop stands between two steps: what is due next and what was emitted. Part
@@ -213,6 +225,8 @@ class Simulation {
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
   /// Every crack tip, branching and nucleation so far (docs/crack_fronts.md).
   const CrackFronts& fronts() const { return fronts_; }
+  /// Whether, where and when a crack from a notch reached the plate's outer boundary.
+  const CutThrough& cut_through() const { return cut_; }
   /// Every split and link failure so far, in order (the event catalogue).
   const std::vector<CrackEvent>& events() const { return events_; }
 
@@ -253,6 +267,9 @@ class Simulation {
   mutable double energy_reference_ = 0;  // running max of kinetic + elastic (energies())
   std::vector<std::string> step_warnings_;
   CrackFronts make_crack_fronts() const;
+  double plate_box_[4] = {0, 0, 0, 0};  // the whole reference mesh's x and y bounds
+  CutThrough cut_;
+  void check_cut_through();  // after splits, and on restore (from the rebuilt fronts)
   void rebuild_fronts();  // from the splits of events_ (checkpoint.cpp)
   /// Every split and link failure in order (the crack fronts are rebuilt from it on restore).
   std::vector<CrackEvent> events_;

@@ -1068,6 +1068,44 @@ TEST(Executable, EveryCommandHasItsOwnHelpAndOneMeaningOfOut) {
   EXPECT_FALSE(fs::exists(dir / "f.png"));
 }
 
+// run.stop_when_cut_through (issue 15), on by default: a straight crack on a short plate
+// reaches the far edge (its node there splits) at about 11 us and the run stops there, with a last frame at that time
+// and the summary saying when and where; off, the run goes on to run.end_time and the summary
+// still says when the plate was cut.
+TEST(Executable, ARunStopsWhenTheCrackCutsThePlateThrough) {
+  TempDir dir;
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  double cut_time = 0;
+  for (const bool stop : {true, false}) {
+    const fs::path out = dir / (stop ? "stop" : "on");
+    std::vector<std::string> args = {"run", scenes + "cm.ini", "--set", "geometry.L=12e-3",
+                                     "--set", "mesh.size=1e-3", "--set", "run.end_time=20e-6",
+                                     "--set", "output.frame_interval=5e-6", "--out", out.string()};
+    if (!stop) args.insert(args.end(), {"--set", "run.stop_when_cut_through=no"});
+    const Result r = run_brittle(dir, args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json s = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s.at("status"), "completed");
+    const nlohmann::json& cut = s.at("cut_through");
+    ASSERT_TRUE(cut.is_object()) << s.dump();
+    EXPECT_NEAR(cut.at("x").get<double>(), 12e-3, 1e-12) << "the far edge's node split";
+    EXPECT_EQ(cut.at("stopped").get<bool>(), stop);
+    const auto frames = brittle::read_pvd((out / "run.pvd").string());
+    if (stop) {
+      cut_time = cut.at("t").get<double>();
+      EXPECT_GT(cut_time, 5e-6);
+      EXPECT_LT(cut_time, 15e-6);
+      EXPECT_EQ(s.at("time").get<double>(), cut_time) << "stopped at the step that cut it";
+      EXPECT_EQ(frames.back().time, cut_time) << "the last frame shows the cut plate";
+      EXPECT_TRUE(contains(r.err, "cut the plate through")) << r.err;
+    } else {
+      EXPECT_EQ(cut.at("t").get<double>(), cut_time);
+      EXPECT_EQ(s.at("time").get<double>(), 20e-6);
+      EXPECT_EQ(frames.back().time, 20e-6);
+    }
+  }
+}
+
 // A run into a directory an earlier, longer run used removes that run's frames (and says so)
 // and leaves every other file there as it was.
 TEST(Executable, ARunRemovesAnEarlierRunsFramesOnly) {

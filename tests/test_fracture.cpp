@@ -197,9 +197,13 @@ void expect_valid_grid(const Grid& g, const std::string& name) {
 // ligament, both faces, and the links dissipate A_c gamma for it (3.7).
 TEST(Straight, CrackRunsAlongTheMidPlaneToTheFarEdge) {
   Scene s = fracture_scene(FractureParams::Mode::straight, 40e-6);
+  s.run.stop_when_cut_through = false;  // on past the cut, until the last links have failed
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
   Simulation sim(s, *mesh);
   const RunSummary summary = sim.run({});
+  ASSERT_TRUE(summary.cut_through.happened);
+  EXPECT_DOUBLE_EQ(summary.cut_through.x, s.geometry.L);
+  EXPECT_LT(summary.cut_through.t, summary.time);
   const Grid& g = sim.grid();
   long on_crack = 0;
   for (vtkIdType p = 0; p < g.num_points(); ++p) {
