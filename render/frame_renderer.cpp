@@ -152,6 +152,7 @@ void plain_text(vtkTextProperty* p, int size) {
 /// above and below the range annotated "> hi" and "< lo" (set_range).
 void configure_bar(vtkScalarBarActor& bar, vtkLookupTable* lut, int font) {
   bar.SetLookupTable(lut);
+  bar.SetMaximumNumberOfColors(256);  // every colour of the table: no visible bands
   bar.SetLabelFormat("%.3g");
   bar.UnconstrainedFontSizeOn();
   bar.GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
@@ -475,7 +476,10 @@ vtkSmartPointer<vtkImageData> FrameRenderer::render(vtkUnstructuredGrid& grid, F
   p.mapper->SetScalarVisibility(!crack_frame);
   p.bar->SetVisibility(!crack_frame && single);
   p.name->SetVisibility(!crack_frame && single);
-  p.scene_name->SetInput(scene_name_.c_str());
+  // At most 40 characters (the end kept), so that a long name stays clear of the colour bar.
+  const std::string shown_name =
+      scene_name_.size() > 40 ? "..." + scene_name_.substr(scene_name_.size() - 37) : scene_name_;
+  p.scene_name->SetInput(shown_name.c_str());
   p.scene_name->SetVisibility(single && !scene_name_.empty());
   p.legend->SetVisibility(crack_frame);
   p.lines_actor->SetVisibility(crack_frame);
