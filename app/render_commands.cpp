@@ -90,23 +90,17 @@ const PvdEntry& frame_at(const std::vector<PvdEntry>& series, double time, const
   return *nearest;
 }
 
-/// The name a single frame shows: the scene files' stems in order and the run directory's name
-/// unless it is one of them ("cm + damage (branching-90)", "cm + damage", "cm"); the directory's
-/// name alone without files.
+/// The name a single frame shows: the scene files' stems in order ("cm + damage"), else the run
+/// directory's name. Not the directory with the files: the same scene run into two directories
+/// (serial and decomposed, test_parallel) gives the same pictures.
 std::string scene_name(const std::vector<std::string>& sources, const std::string& run_directory) {
+  std::string name;
+  for (const std::string& s : sources)
+    if (!s.starts_with("--set ")) name += (name.empty() ? "" : " + ") + fs::path(s).stem().string();
+  if (!name.empty()) return name;
   fs::path dir = fs::absolute(run_directory).lexically_normal();
   if (dir.filename().empty()) dir = dir.parent_path();
-  const std::string run = dir.filename().string();
-  std::string name;
-  bool run_is_a_stem = false;
-  for (const std::string& s : sources)
-    if (!s.starts_with("--set ")) {
-      const std::string stem = fs::path(s).stem().string();
-      name += (name.empty() ? "" : " + ") + stem;
-      run_is_a_stem = run_is_a_stem || stem == run;
-    }
-  if (name.empty()) return run;
-  return run_is_a_stem || run.empty() ? name : name + " (" + run + ")";
+  return dir.filename().string();
 }
 
 /// What a run directory's scene.ini (written by every run: the resolved scene) says about the
