@@ -292,6 +292,8 @@ int render_command(const std::vector<std::string>& args) {
   std::cout << "wrote " << frames << " PNG frames to " << directory << " ("
             << (frames ? seconds / frames : 0) << " s per frame)\n";
   if (shown.size() < fields.size()) std::cerr << "brittle: " << kNoDamage << "\n";
+  if (!panel_path.empty() && shown.empty())
+    std::cerr << "brittle: no panel written to " << panel_path << ": no field left to show\n";
   if (!panel_path.empty() && !shown.empty()) {
     // One colour bar per coloured row, right of it (crack rows have none): not one per frame.
     std::vector<std::vector<vtkImageData*>> raw(shown.size());
