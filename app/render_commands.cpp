@@ -4,6 +4,8 @@
 
 #include "isolated_read.hpp"
 
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -12,9 +14,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -85,13 +90,72 @@ const PvdEntry& frame_at(const std::vector<PvdEntry>& series, double time, const
   return *nearest;
 }
 
+/// The name a single frame shows: the scene files' stems in order ("cm + damage"), else the run
+/// directory's name. Not the directory with the files: the same scene run into two directories
+/// (serial and decomposed, test_parallel) gives the same pictures.
+std::string scene_name(const std::vector<std::string>& sources, const std::string& run_directory) {
+  std::string name;
+  for (const std::string& s : sources)
+    if (!s.starts_with("--set ")) name += (name.empty() ? "" : " + ") + fs::path(s).stem().string();
+  if (!name.empty()) return name;
+  fs::path dir = fs::absolute(run_directory).lexically_normal();
+  if (dir.filename().empty()) dir = dir.parent_path();
+  return dir.filename().string();
+}
+
+/// What a run directory's scene.ini (written by every run: the resolved scene) says about the
+/// run: its scene's name (the "# source:" lines) and whether damage was on (damage.beta1 > 0).
+struct RunInfo {
+  std::string name;
+  std::optional<bool> damage;  ///< nothing: no scene.ini, decide from the frames
+};
+
+RunInfo read_run_info(const std::string& run_directory) {
+  RunInfo info;
+  std::vector<std::string> sources;
+  std::ifstream in(fs::path(run_directory) / "scene.ini");
+  std::string line, section;
+  while (std::getline(in, line)) {
+    if (line.starts_with("# source: "))
+      sources.push_back(line.substr(10));
+    else if (line.starts_with("["))
+      section = line.substr(1, line.find(']') - 1);
+    else if (section == "damage" && line.starts_with("beta1 = "))
+      info.damage = std::strtod(line.c_str() + 8, nullptr) > 0;
+  }
+  info.name = scene_name(sources, run_directory);
+  return info;
+}
+
+/// A frame has damage when its Omega is anywhere above 0. Omega never decreases (5.2), so a
+/// run's last frame tells for all earlier ones.
+bool has_damage(vtkUnstructuredGrid& grid) {
+  vtkDataArray* omega = grid.GetCellData()->GetArray(field::damage);
+  if (!omega) return false;
+  double range[2];
+  omega->GetRange(range, 0);
+  return range[1] > 0;
+}
+
+constexpr const char* kNoDamage = "no damage in this run: damage frames skipped";
+
+/// The fields to draw: `fields` without damage when the run has none (the caller says so on
+/// stderr once it has succeeded: an error stays the only line).
+std::vector<Field> drop_damage(const std::vector<Field>& fields, bool damage) {
+  std::vector<Field> kept;
+  for (Field f : fields)
+    if (damage || f != Field::damage) kept.push_back(f);
+  return kept;
+}
+
 /// Renders frames during a run at render.times, one PNG per field.
 class RenderObserver : public Observer {
  public:
   explicit RenderObserver(const Scene& scene)
-      : renderer_(scene.render),
+      : renderer_(scene.render, scene_name(scene.sources, scene.output.directory)),
         times_(scene.render.times),
-        fields_(fields_of(scene.render.fields)),
+        fields_(drop_damage(fields_of(scene.render.fields), scene.damage.enabled())),
+        skipped_damage_(fields_.size() < scene.render.fields.size()),
         directory_(render_directory(scene)) {}
 
   void on_frame(const Simulation& sim) override {
@@ -114,6 +178,7 @@ class RenderObserver : public Observer {
   }
 
   void on_finish(const Simulation&, const RunSummary&) override {
+    if (skipped_damage_) std::cerr << "brittle: " << kNoDamage << "\n";
     if (frames_ > 0)
       std::fprintf(stderr, "brittle: %d PNG frames in %s (%.3f s per frame)\n", frames_,
                    directory_.c_str(), seconds_ / frames_);
@@ -123,6 +188,7 @@ class RenderObserver : public Observer {
   render::FrameRenderer renderer_;
   std::vector<double> times_;
   std::vector<Field> fields_;
+  bool skipped_damage_;
   std::string directory_;
   std::size_t next_ = 0;
   int frames_ = 0;
@@ -207,35 +273,63 @@ int render_command(const std::vector<std::string>& args) {
   if (!panel_path.empty() && !fs::path(panel_path).has_parent_path())
     panel_path = (fs::path(directory) / panel_path).string();
 
-  render::FrameRenderer renderer(scene.render);
+  // Damage only where the run has it: its scene.ini says, else its last frame (has_damage).
+  const std::string run_directory = fs::path(pvd).parent_path().string();
+  const RunInfo run = read_run_info(run_directory.empty() ? "." : run_directory);
+  bool damage = true;
+  if (std::find(fields.begin(), fields.end(), Field::damage) != fields.end() && run.damage)
+    damage = *run.damage;
+  else if (std::find(fields.begin(), fields.end(), Field::damage) != fields.end())
+    damage = has_damage(*read_frame(
+        std::max_element(picks.begin(), picks.end(), [](auto& a, auto& b) {
+          return a.second->time < b.second->time;
+        })->second->file));
+  const std::vector<Field> shown = drop_damage(fields, damage);
+
+  render::FrameRenderer renderer(scene.render, run.name);
   double seconds = 0;
   int frames = 0;
-  std::vector<std::vector<vtkSmartPointer<vtkImageData>>> cells(fields.size());
+  std::vector<std::vector<vtkSmartPointer<vtkImageData>>> cells(shown.size());
   for (const auto& [t, entry] : picks) {
+    if (shown.empty()) break;
     auto grid = read_frame(entry->file);
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      auto image = renderer.render(*grid, fields[i]);
-      render::write_png(*image, directory + "/" + render::frame_file_name(fields[i], t));
-      if (!panel_path.empty()) cells[i].push_back(image);
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+      auto image = renderer.render(*grid, shown[i]);
+      render::write_png(*image, directory + "/" + render::frame_file_name(shown[i], t));
+      if (!panel_path.empty())
+        cells[i].push_back(renderer.render(*grid, shown[i], render::Layout::cell));
       ++frames;
     }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   std::cout << "wrote " << frames << " PNG frames to " << directory << " ("
             << (frames ? seconds / frames : 0) << " s per frame)\n";
-  if (!panel_path.empty()) {
-    std::vector<std::vector<vtkImageData*>> raw(fields.size());
+  if (shown.size() < fields.size()) std::cerr << "brittle: " << kNoDamage << "\n";
+  if (!panel_path.empty() && shown.empty())
+    std::cerr << "brittle: no panel written to " << panel_path << ": no field left to show\n";
+  if (!panel_path.empty() && !shown.empty()) {
+    // One colour bar per coloured row, right of it (crack rows have none): not one per frame.
+    std::vector<std::vector<vtkImageData*>> raw(shown.size());
     std::vector<std::string> rows, columns;
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      rows.push_back(fields.size() == 1          ? ""
-                     : fields[i] == Field::sigma1 ? "sigma1"
-                     : fields[i] == Field::damage ? "Omega"
+    std::vector<vtkSmartPointer<vtkImageData>> bar_images;
+    std::vector<render::PanelBar> bars;
+    const bool coloured =
+        std::any_of(shown.begin(), shown.end(), [](Field f) { return f != Field::crack; });
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+      rows.push_back(shown.size() == 1          ? ""
+                     : shown[i] == Field::sigma1 ? "sigma1"
+                     : shown[i] == Field::damage ? "Omega"
                                                   : "crack");
       for (auto& image : cells[i]) raw[i].push_back(image);
+      if (!coloured) continue;
+      const int bar_w = renderer.colour_bar_width(), h = scene.render.height;
+      bar_images.push_back(shown[i] == Field::crack ? render::text_image(" ", bar_w, h, 12)
+                                                    : renderer.colour_bar(shown[i], bar_w, h));
+      bars.push_back({bar_images.back(), 1});
     }
     for (const auto& pick : picks) columns.push_back(error_message(pick.first * 1e6, " us"));
-    auto composed = render::panel(raw, rows, columns, title);
+    auto composed = render::panel(raw, rows, columns, title, bars);
     render::write_png(*composed, panel_path);
     std::cout << "wrote " << panel_path << "\n";
   }
@@ -313,7 +407,11 @@ int figure_command(const std::vector<std::string>& args) {
     }
   }
 
-  // Frames: [mode][field][row][column], rendered once per stored grid.
+  // Frames: [mode][field][row][column], rendered once per stored grid as panel cells (the
+  // figure has one colour bar). Omega only when the runs have damage.
+  const bool damage = base.damage.enabled();
+  std::vector<Field> fields = {Field::sigma1};
+  if (damage) fields.push_back(Field::damage);
   render::FrameRenderer renderer(base.render);
   std::map<std::tuple<std::string, int, std::size_t, std::size_t>, vtkSmartPointer<vtkImageData>>
       frames;
@@ -325,8 +423,9 @@ int figure_command(const std::vector<std::string>& args) {
       for (std::size_t r = 0; r < times.size(); ++r) {
         auto grid = read_frame(frame_at(series[{mode, loads[c]}], times[r], pvd).file);
         const auto t0 = std::chrono::steady_clock::now();
-        for (Field f : {Field::sigma1, Field::damage}) {
-          frames[{mode, static_cast<int>(f), r, c}] = renderer.render(*grid, f);
+        for (Field f : fields) {
+          frames[{mode, static_cast<int>(f), r, c}] =
+              renderer.render(*grid, f, render::Layout::cell);
           ++count;
         }
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -353,16 +452,26 @@ int figure_command(const std::vector<std::string>& args) {
       {"fig09.png", "branching", Field::sigma1, "Fig. 9: sigma1 / sigma_c, branching"},
       {"fig10.png", "branching", Field::damage, "Fig. 10: Omega (damage), branching"},
   };
+  const int rows = static_cast<int>(times.size());
+  std::vector<std::string> written;
   for (const Figure& fig : figures) {
+    if (!damage && fig.field == Field::damage) continue;
     std::vector<std::vector<vtkImageData*>> cells(times.size());
     for (std::size_t r = 0; r < times.size(); ++r)
       for (std::size_t c = 0; c < loads.size(); ++c)
         cells[r].push_back(frames[{fig.mode, static_cast<int>(fig.field), r, c}]);
-    auto image = render::panel(cells, row_titles, column_titles, fig.title);
+    auto bar = renderer.colour_bar(fig.field, renderer.colour_bar_width(),
+                                   rows * base.render.height);
+    auto image = render::panel(cells, row_titles, column_titles, fig.title, {{bar, rows}});
     render::write_png(*image, out + "/" + fig.file);
+    written.push_back(fig.file);
   }
-  std::cout << "wrote " << out << "/fig07.png ... fig10.png (" << count << " frames, "
-            << seconds / std::max(count, 1) << " s per frame)\n";
+  std::cout << "wrote";
+  for (const std::string& f : written) std::cout << " " << out << "/" << f;
+  std::cout << " (" << count << " frames, " << seconds / std::max(count, 1) << " s per frame)\n";
+  if (!damage)
+    std::cerr << "brittle figure: no damage in these runs (damage.beta1 = 0): fig08.png and "
+                 "fig10.png (Omega) skipped\n";
   return 0;
 }
 

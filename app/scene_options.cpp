@@ -482,6 +482,23 @@ const std::vector<Key>& scene_keys() {
                       non_negative));
     k.push_back(field("render.zoom", &Scene::render, &ReP::zoom, "",
                       "camera zoom about the plate centre (1 = whole plate)", "> 0", positive));
+    k.push_back(typed<std::string>(
+        "render.colormap", "", "colour ramp of sigma1 and Omega frames",
+        "jet (blue -> red, the paper's) | viridis (perceptually uniform)", std::string("jet"),
+        "jet", [](const std::string& text, const Source&, Scene& scene) {
+          const std::string v = lower(text);
+          if (v == "jet")
+            scene.render.colormap = ReP::Colormap::jet;
+          else if (v == "viridis")
+            scene.render.colormap = ReP::Colormap::viridis;
+          else
+            return Verdict::out_of_range;
+          return Verdict::ok;
+        }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> {
+      return s.render.colormap == ReP::Colormap::viridis ? "viridis" : "jet";
+    };
+    k.back().choices = {"jet", "viridis"};
     k.push_back(typed<std::string>("render.directory", "", "where PNG frames go",
                                    "empty = <output.directory>/render", std::string(), "\"\"",
                                    [](const std::string& v, const Source&, Scene& scene) {

@@ -113,7 +113,8 @@ vtkSmartPointer<vtkImageData> append(const std::vector<vtkImageData*>& images, i
 vtkSmartPointer<vtkImageData> panel(const std::vector<std::vector<vtkImageData*>>& cells,
                                     const std::vector<std::string>& row_titles,
                                     const std::vector<std::string>& column_titles,
-                                    const std::string& title) {
+                                    const std::string& title,
+                                    const std::vector<PanelBar>& bars) {
   BRITTLE_CHECK(!cells.empty() && !cells[0].empty() && cells.size() == row_titles.size() &&
                     cells[0].size() == column_titles.size(),
                 "render: panel needs rows x columns images and a title for each row and column");
@@ -136,25 +137,45 @@ vtkSmartPointer<vtkImageData> panel(const std::vector<std::vector<vtkImageData*>
   const int header_h = font * 2, title_h = font * 5 / 2;
 
   std::vector<vtkSmartPointer<vtkImageData>> keep;  // owns the strips until appended
-  std::vector<vtkSmartPointer<vtkImageData>> rows;
   keep.push_back(text_image(" ", label_w, header_h, font));
   std::vector<vtkImageData*> header = {keep.back()};
   for (const std::string& c : column_titles) {
     keep.push_back(text_image(c, w, header_h, font, true));
     header.push_back(keep.back());
   }
-  const int total_w = label_w + w * static_cast<int>(column_titles.size());
-  rows.push_back(text_image(title, total_w, title_h, font * 6 / 5, true));
-  rows.push_back(append(header, 0));
+  int bar_w = 0, bar_rows = 0;
+  for (const PanelBar& b : bars) {
+    BRITTLE_CHECK(b.image, "render: panel colour bar without an image");
+    int d[3];
+    b.image->GetDimensions(d);
+    BRITTLE_CHECK(b.rows > 0 && d[1] == b.rows * h && (bar_w == 0 || d[0] == bar_w),
+                  "render: panel colour bars must be as high as their rows and of one width");
+    bar_w = d[0];
+    bar_rows += b.rows;
+  }
+  BRITTLE_CHECK(bars.empty() || bar_rows == static_cast<int>(cells.size()),
+                "render: panel colour bars must cover every row once");
+  std::vector<vtkSmartPointer<vtkImageData>> grid_rows;
+  grid_rows.push_back(append(header, 0));
   for (std::size_t i = 0; i < cells.size(); ++i) {
     keep.push_back(text_image(row_titles[i], label_w, h, font, true));
     std::vector<vtkImageData*> row = {keep.back()};
     row.insert(row.end(), cells[i].begin(), cells[i].end());
-    rows.push_back(append(row, 0));
+    grid_rows.push_back(append(row, 0));
   }
   std::vector<vtkImageData*> stack;
-  for (auto& r : rows) stack.push_back(r);
-  return append(stack, 1);
+  for (auto& r : grid_rows) stack.push_back(r);
+  vtkSmartPointer<vtkImageData> body = append(stack, 1);
+  if (!bars.empty()) {
+    keep.push_back(text_image(" ", bar_w, header_h, font));
+    std::vector<vtkImageData*> column = {keep.back()};
+    for (const PanelBar& b : bars) column.push_back(b.image);
+    keep.push_back(append(column, 1));
+    body = append({body.Get(), keep.back().Get()}, 0);
+  }
+  const int total_w = label_w + w * static_cast<int>(column_titles.size()) + bar_w;
+  keep.push_back(text_image(title, total_w, title_h, font * 6 / 5, true));
+  return append({keep.back().Get(), body.Get()}, 1);
 }
 
 Comparison compare_images(vtkImageData& image, vtkImageData& baseline) {

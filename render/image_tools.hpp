@@ -20,12 +20,21 @@ vtkSmartPointer<vtkImageData> read_png(const std::string& path);
 vtkSmartPointer<vtkImageData> text_image(const std::string& text, int width, int height,
                                          int font_size, bool bold = false);
 
+/// A colour bar shared by `rows` consecutive rows of a panel, right of them: `image` is as high as
+/// those rows together (FrameRenderer::colour_bar).
+struct PanelBar {
+  vtkImageData* image = nullptr;
+  int rows = 1;
+};
+
 /// The paper's panel: cells[row][column] (all of one size), column titles above, row titles to
-/// the left, a title across the top. Composed with vtkImageAppend.
+/// the left, a title across the top, and the shared colour bars (if any) in a column on the
+/// right, top to bottom, covering every row once. Composed with vtkImageAppend.
 vtkSmartPointer<vtkImageData> panel(const std::vector<std::vector<vtkImageData*>>& cells,
                                     const std::vector<std::string>& row_titles,
                                     const std::vector<std::string>& column_titles,
-                                    const std::string& title);
+                                    const std::string& title,
+                                    const std::vector<PanelBar>& bars = {});
 
 /// The result of comparing an image with its baseline through vtkImageDifference.
 struct Comparison {

@@ -197,6 +197,10 @@ struct RenderParams {
   double damage_min = 0, damage_max = 0.45;  ///< fixed colour range of Omega
   double magnification = 1;  ///< displacement magnification (1 = the true deformed shape)
   double zoom = 1;           ///< camera zoom about the plate centre (1 = whole plate)
+  /// Colour ramp of sigma1 and Omega: jet (blue -> red, the paper's) or viridis (perceptually
+  /// uniform, matplotlib's); docs/rendering.md.
+  enum class Colormap { jet, viridis };
+  Colormap colormap = Colormap::jet;
   std::string directory;     ///< where PNGs go (empty = <output.directory>/render)
 };
 

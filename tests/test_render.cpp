@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <algorithm>
 #include <array>
 #include <set>
@@ -19,10 +20,15 @@
 #include <string>
 #include <vector>
 
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <vtkImageData.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
 
 #include "error.hpp"
 #include "fracture.hpp"
+#include "grid.hpp"
 #include "crack_surface.hpp"
 #include "frame_renderer.hpp"
 #include "image_tools.hpp"
@@ -63,8 +69,51 @@ vtkSmartPointer<vtkImageData> render_small(Field field, const std::vector<std::s
   brittle::Simulation sim(scene, *mesh);
   sim.run({});
   sim.update_output_fields();
-  brittle::render::FrameRenderer renderer(scene.render);
+  brittle::render::FrameRenderer renderer(scene.render, "cm + damage");
   return renderer.render(*sim.grid().vtk(), field);
+}
+
+/// The small scene at t = 0, not run (a few hundredths of a second): the grid to paint on.
+struct SmallGrid {
+  brittle::Scene scene;
+  std::unique_ptr<brittle::Simulation> sim;
+  explicit SmallGrid(const std::vector<std::string>& extra = {}) : scene(small_scene(extra)) {
+    auto mesh = brittle::make_mesh(scene);
+    sim = std::make_unique<brittle::Simulation>(scene, *mesh);
+    sim->update_output_fields();
+  }
+  vtkUnstructuredGrid& grid() { return *sim->grid().vtk(); }
+  /// Every cell's sigma1/sigma_c set to `value`.
+  void fill_sigma1(double value) {
+    grid().GetCellData()->GetArray(brittle::field::sigma1_over_sigmac)->FillComponent(0, value);
+  }
+};
+
+/// RGB of the pixel in column `col`, row `row` counted from the top.
+std::array<int, 3> pixel(vtkImageData& image, int col, int row) {
+  int dims[3];
+  image.GetDimensions(dims);
+  const auto* p = static_cast<const unsigned char*>(image.GetScalarPointer()) +
+                  3 * ((dims[1] - 1 - row) * dims[0] + col);
+  return {p[0], p[1], p[2]};
+}
+
+/// How many pixels of the box [col0, col1) x [row0, row1) (rows from the top) `pred` accepts.
+template <class Pred>
+long count_pixels(vtkImageData& image, int col0, int col1, int row0, int row1, Pred pred) {
+  long n = 0;
+  for (int row = row0; row < row1; ++row)
+    for (int col = col0; col < col1; ++col)
+      if (pred(pixel(image, col, row))) ++n;
+  return n;
+}
+
+bool is_dark(const std::array<int, 3>& p) { return p[0] < 90 && p[1] < 90 && p[2] < 90; }
+bool is_white(const std::array<int, 3>& p) { return p[0] > 250 && p[1] > 250 && p[2] > 250; }
+bool is_magenta(const std::array<int, 3>& p) { return p[0] > 245 && p[1] < 10 && p[2] > 245; }
+/// A ramp colour (saturated, as on a colour bar or the plate), not black, white or grey text.
+bool is_colour(const std::array<int, 3>& p) {
+  return std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 100;
 }
 
 bool regenerating() {
@@ -351,4 +400,187 @@ TEST(RenderKeys, RangesAndFieldsAreChecked) {
   EXPECT_THROW(small_scene({"render.width=4"}), brittle::Error);
   EXPECT_EQ(small_scene({"render.fields=damage"}).render.fields,
             std::vector<std::string>{"damage"});
+}
+
+TEST(RenderKeys, ColormapIsAWord) {
+  EXPECT_EQ(small_scene().render.colormap, brittle::RenderParams::Colormap::jet);
+  EXPECT_EQ(small_scene({"render.colormap=Viridis"}).render.colormap,
+            brittle::RenderParams::Colormap::viridis);
+  EXPECT_THROW(small_scene({"render.colormap=parula"}), brittle::Error);
+}
+
+/// Values above the colour range are magenta, below it grey, on the plate; the bar of a single
+/// frame shows both as swatches at its ends.
+TEST_F(Render, OverRangeCellsGetTheMarkedColours) {
+  SmallGrid small;
+  brittle::render::FrameRenderer renderer(small.scene.render);
+  // 400 x 300: the plate spans rows ~36..225 from the top; (300, 100) is on it, above y = 0.
+  small.fill_sigma1(2.9);  // sigma1/sigma_c at a crack tip; the bar ends at 1.2
+  auto above = renderer.render(small.grid(), Field::sigma1);
+  EXPECT_EQ(pixel(*above, 300, 100), (std::array<int, 3>{255, 0, 255}));
+  small.fill_sigma1(-0.3);
+  auto below = renderer.render(small.grid(), Field::sigma1);
+  const auto grey = pixel(*below, 300, 100);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(grey[k], 128, 1);
+  small.fill_sigma1(0.9);
+  auto inside = renderer.render(small.grid(), Field::sigma1);
+  EXPECT_FALSE(is_magenta(pixel(*inside, 300, 100)));
+  // The swatches: magenta and grey in the colour bar's strip (bottom 25 %), none on the plate.
+  EXPECT_GT(count_pixels(*inside, 0, 400, 225, 300, is_magenta), 20);
+  EXPECT_EQ(count_pixels(*inside, 0, 400, 0, 225, is_magenta), 0);
+}
+
+TEST_F(Render, ViridisDiffersFromJet) {
+  SmallGrid small;
+  small.fill_sigma1(0.6);  // the middle of 0..1.2
+  brittle::render::FrameRenderer jet(small.scene.render);
+  brittle::RenderParams params = small.scene.render;
+  params.colormap = brittle::RenderParams::Colormap::viridis;
+  brittle::render::FrameRenderer viridis(params);
+  const auto j = pixel(*jet.render(small.grid(), Field::sigma1), 300, 100);
+  const auto v = pixel(*viridis.render(small.grid(), Field::sigma1), 300, 100);
+  // jet's middle is green; viridis' is its teal #21918c (33, 145, 140).
+  EXPECT_GT(j[1], 200);
+  EXPECT_LT(j[0] + j[2], 60);
+  EXPECT_NEAR(v[0], 33, 3);
+  EXPECT_NEAR(v[1], 145, 3);
+  EXPECT_NEAR(v[2], 140, 3);
+}
+
+TEST(ScaleBar, LengthIsOneTwoOrFiveTimesAPowerOfTen) {
+  EXPECT_DOUBLE_EQ(brittle::render::scale_bar_length(32e-3), 5e-3);
+  EXPECT_DOUBLE_EQ(brittle::render::scale_bar_length(0.1), 0.02);
+  EXPECT_DOUBLE_EQ(brittle::render::scale_bar_length(1e-3), 2e-4);
+  EXPECT_DOUBLE_EQ(brittle::render::scale_bar_length(0.5), 0.1);
+}
+
+namespace {
+
+/// The longest run of dark pixels along a row in the box (rows from the top).
+int longest_dark_run(vtkImageData& image, int col0, int col1, int row0, int row1) {
+  int best = 0;
+  for (int row = row0; row < row1; ++row)
+    for (int col = col0, run = 0; col < col1; ++col) {
+      run = is_dark(pixel(image, col, row)) ? run + 1 : 0;
+      best = std::max(best, run);
+    }
+  return best;
+}
+
+}  // namespace
+
+/// The scale bar is as long, in pixels, as its length in mm is on the plate: measured against
+/// the plate's own width in pixels (the known reference width), single frames and panel cells.
+TEST_F(Render, ScaleBarMatchesTheCamera) {
+  SmallGrid small;
+  double range[2];
+  small.grid().GetPointData()->GetArray(brittle::field::reference_position)->GetRange(range, 0);
+  const double plate_width = range[1] - range[0];
+  brittle::render::FrameRenderer renderer(small.scene.render);
+  for (auto layout : {brittle::render::Layout::single, brittle::render::Layout::cell}) {
+    SCOPED_TRACE(layout == brittle::render::Layout::single ? "single" : "cell");
+    auto image = renderer.render(small.grid(), Field::sigma1, layout);
+    const long plate_px =
+        count_pixels(*image, 0, 400, 100, 101, [](auto p) { return !is_white(p); });
+    const double px_per_m = plate_px / plate_width;
+    const brittle::render::ScaleBar& bar = renderer.scale_bar();
+    EXPECT_NEAR(bar.length, 5e-3, 1e-12);  // a 32 mm plate: 5 mm
+    // Bottom strip, right of the colour bar: the bar is the longest dark line there.
+    const int measured = longest_dark_run(*image, 270, 400, 255, 300);
+    EXPECT_NEAR(measured, bar.length * px_per_m, 2.0) << "plate " << plate_px << " px";
+    EXPECT_NEAR(measured, bar.pixels, 1.0);
+  }
+}
+
+/// Single frames name the scene (bottom right); panel cells and unnamed renderers do not.
+TEST_F(Render, SceneNameInSingleFrames) {
+  SmallGrid small;
+  brittle::render::FrameRenderer named(small.scene.render, "cm + damage");
+  brittle::render::FrameRenderer unnamed(small.scene.render);
+  auto corner = [](vtkImageData& image) {
+    return count_pixels(image, 280, 400, 281, 300, is_dark);
+  };
+  EXPECT_GT(corner(*named.render(small.grid(), Field::sigma1)), 30);
+  EXPECT_EQ(corner(*unnamed.render(small.grid(), Field::sigma1)), 0);
+  // A cell is the same picture with or without a name (its bottom strip holds the scale bar).
+  auto cell = named.render(small.grid(), Field::sigma1, brittle::render::Layout::cell);
+  auto unnamed_cell = unnamed.render(small.grid(), Field::sigma1, brittle::render::Layout::cell);
+  EXPECT_EQ(brittle::render::compare_images(*cell, *unnamed_cell).error, 0.0);
+}
+
+/// A panel has one colour bar, right of the frames: the cells have none, the panel is one bar
+/// wider than without it, and the bar's magenta swatch is only in that last column.
+TEST_F(Render, PanelHasOneSharedColourBar) {
+  SmallGrid small;
+  brittle::render::FrameRenderer renderer(small.scene.render);
+  auto single = renderer.render(small.grid(), Field::sigma1);
+  auto a = renderer.render(small.grid(), Field::sigma1, brittle::render::Layout::cell);
+  auto b = renderer.render(small.grid(), Field::sigma1, brittle::render::Layout::cell);
+  // The bottom 12 % of a cell holds the scale bar only; a single frame's holds its colour bar.
+  EXPECT_EQ(count_pixels(*a, 0, 400, 264, 300, is_colour), 0);
+  EXPECT_GT(count_pixels(*single, 0, 400, 264, 300, is_colour), 1000);
+  const int bar_w = renderer.colour_bar_width();
+  auto bar = renderer.colour_bar(Field::sigma1, bar_w, 300);
+  const std::vector<std::vector<vtkImageData*>> cells = {{a, b}};
+  auto with = brittle::render::panel(cells, {"sigma1"}, {"1 us", "2 us"}, "title", {{bar, 1}});
+  auto without = brittle::render::panel(cells, {"sigma1"}, {"1 us", "2 us"}, "title");
+  int w1[3], w0[3];
+  with->GetDimensions(w1);
+  without->GetDimensions(w0);
+  EXPECT_EQ(w1[0], w0[0] + bar_w);
+  EXPECT_EQ(w1[1], w0[1]);
+  EXPECT_GT(count_pixels(*with, w0[0], w1[0], 0, w1[1], is_magenta), 20);
+  EXPECT_EQ(count_pixels(*with, 0, w0[0], 0, w1[1], is_magenta), 0);
+}
+
+/// A run without damage (damage.beta1 = 0) gets no Omega frames, during the run and from
+/// `brittle render` (by its scene.ini, or by its frames when that is gone), and its panel no
+/// Omega row; stderr says so.
+TEST_F(Render, RunWithoutDamageHasNoDamageFrames) {
+  const fs::path dir = scratch("no_damage");
+  const std::string exe = BRITTLE_EXE, scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  ASSERT_EQ(run(exe + " run " + scenes + "cm.ini --set mesh.size=2e-3 --set run.end_time=2e-6"
+                    " --set render.width=200 --set render.height=150 --set render.times=2e-6"
+                    " --out '" + (dir / "run").string() + "'",
+                dir / "run.log"),
+            0)
+      << read(dir / "run.log");
+  EXPECT_TRUE(fs::exists(dir / "run" / "render" / "sigma1_002.000us.png"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "render" / "damage_002.000us.png"));
+  EXPECT_NE(read(dir / "run.log").find("no damage in this run: damage frames skipped"),
+            std::string::npos);
+  const std::string render = exe + " render '" + (dir / "run").string() +
+                             "' --set render.width=200 --set render.height=150 --times 2e-6"
+                             " --field sigma1,damage --panel '" + (dir / "panel.png").string() +
+                             "' --out ";
+  for (const char* out : {"again", "without_scene_ini"}) {
+    SCOPED_TRACE(out);
+    if (std::string(out) == "without_scene_ini") fs::remove(dir / "run" / "scene.ini");
+    const fs::path log = dir / (std::string(out) + ".log");
+    ASSERT_EQ(run(render + "'" + (dir / out).string() + "'", log), 0) << read(log);
+    EXPECT_TRUE(fs::exists(dir / out / "sigma1_002.000us.png"));
+    EXPECT_FALSE(fs::exists(dir / out / "damage_002.000us.png"));
+    const std::string text = read(log);
+    EXPECT_NE(text.find("no damage in this run: damage frames skipped"), std::string::npos) << text;
+    auto panel = brittle::render::read_png((dir / "panel.png").string());
+    int dims[3];
+    panel->GetDimensions(dims);
+    EXPECT_LT(dims[1], 2 * 150);  // one row (sigma1) under the titles, not two
+  }
+}
+
+TEST_F(Render, FigureWithoutDamageDropsTheOmegaFigures) {
+  const fs::path dir = scratch("figure_no_damage");
+  const std::string exe = BRITTLE_EXE, scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  ASSERT_EQ(run(exe + " figure " + scenes + "cm.ini --set mesh.size=2e-3 --set render.width=200"
+                    " --set render.height=150 --set render.times=1e-6,2e-6 --runs '" +
+                    (dir / "runs").string() + "' --out '" + (dir / "figs").string() + "'",
+                dir / "log"),
+            0)
+      << read(dir / "log");
+  EXPECT_TRUE(fs::exists(dir / "figs" / "fig07.png"));
+  EXPECT_TRUE(fs::exists(dir / "figs" / "fig09.png"));
+  EXPECT_FALSE(fs::exists(dir / "figs" / "fig08.png"));
+  EXPECT_FALSE(fs::exists(dir / "figs" / "fig10.png"));
+  EXPECT_NE(read(dir / "log").find("no damage"), std::string::npos);
 }
