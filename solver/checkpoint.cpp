@@ -191,18 +191,18 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
           f.min_branch_length);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
-  section("run", s.run.cfl);
+  section("run", s.run.cfl, s.run.stop_when_cut_through);
   OutputParams& o = s.output;
   section("output", o.frame_interval, o.frame_times, o.vtu, o.energy_interval,
           o.imbalance_warning);
   RenderParams& r = s.render;
   section("render", r.times, r.fields, r.width, r.height, r.sigma1_min, r.sigma1_max, r.damage_min,
-          r.damage_max, r.magnification, r.zoom, r.directory);
+          r.damage_max, r.magnification, r.zoom, r.colormap, r.directory);
   return out;
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 2;  // 2: exact energy sums
+constexpr std::uint32_t kFormat = 3;  // 2: exact energy sums; 3: cut-through and colormap keys
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

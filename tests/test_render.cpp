@@ -333,7 +333,7 @@ TEST_F(Render, StoredSeriesGivesTheFrameOfTheRun) {
       << read(dir / "run.log");
   ASSERT_EQ(run(exe + " render '" + (dir / "run" / "run.pvd").string() +
                     "' --set render.width=400 --set render.height=300 --times 5e-6,10e-6 "
-                    "--field sigma1,damage,CRACK --out '" + (dir / "again").string() + "'",
+                    "--fields sigma1,damage,CRACK --out '" + (dir / "again").string() + "'",
                 dir / "render.log"),
             0)
       << read(dir / "render.log");
@@ -551,7 +551,7 @@ TEST_F(Render, RunWithoutDamageHasNoDamageFrames) {
             std::string::npos);
   const std::string render = exe + " render '" + (dir / "run").string() +
                              "' --set render.width=200 --set render.height=150 --times 2e-6"
-                             " --field sigma1,damage --panel '" + (dir / "panel.png").string() +
+                             " --fields sigma1,damage --panel '" + (dir / "panel.png").string() +
                              "' --out ";
   for (const char* out : {"again", "without_scene_ini"}) {
     SCOPED_TRACE(out);
