@@ -51,14 +51,16 @@ SweepSeries read_sweep(const std::string& directory, const std::string& label) {
 void write_series_csv(const std::string& path, const std::vector<SweepSeries>& series) {
   std::ofstream out(path);
   BRITTLE_CHECK(out, "chart: cannot write '", path, "'");
-  out << "series,sigma_over_sigmac,W,speed,fitted_speed,fit_r2,arrested,zhou_speed,"
-         "relative_error\n"
+  out << "series,sigma_over_sigmac,W,W_clamped,speed,fitted_speed,fit_r2,arrested,zhou_speed,"
+         "relative_error,nucleations,window_end,notes\n"
       << std::setprecision(8);
   for (const SweepSeries& s : series)
     for (const SweepPoint& p : s.points)
-      out << s.label << ',' << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed
-          << ',' << p.r2 << ',' << (p.arrested ? "yes" : "no") << ',' << p.zhou_speed << ','
-          << (p.zhou_speed > 0 ? (p.speed - p.zhou_speed) / p.zhou_speed : 0.0) << '\n';
+      out << s.label << ',' << p.load << ',' << p.W << ',' << p.W_clamped << ',' << p.speed << ','
+          << p.fitted_speed << ',' << p.r2 << ',' << (p.arrested ? "yes" : "no") << ','
+          << p.zhou_speed << ','
+          << (p.zhou_speed > 0 ? (p.speed - p.zhou_speed) / p.zhou_speed : 0.0) << ','
+          << p.nucleations << ',' << p.window_end << ",\"" << p.notes << "\"\n";
 }
 
 /// Mean |v - v_fit| / v_fit over the loads in [lo, hi] (an arrest counts as speed 0).
@@ -198,8 +200,9 @@ int tips_command(const std::vector<std::string>& args) {
     std::getline(in, line);  // time,tip_x,tip_y,splits,speed
     for (int row = 2; std::getline(in, line); ++row) {
       const std::vector<std::string> cells = list_words(line);
-      const auto t = cells.size() == 5 ? parse_number(cells[0]) : std::nullopt;
-      const auto v = cells.size() == 5 ? parse_number(cells[4]) : std::nullopt;
+      const bool tip_row = cells.size() == 5 || cells.size() == 7;  // (7: since max_split_x)
+      const auto t = tip_row ? parse_number(cells[0]) : std::nullopt;
+      const auto v = tip_row ? parse_number(cells[4]) : std::nullopt;
       BRITTLE_CHECK(t && v, "brittle tips: '", csv, "', line ", row,
                     ": expected time,tip_x,tip_y,splits,speed");
       s.x.push_back(*t * 1e6), s.y.push_back(*v);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -126,16 +127,26 @@ class Progress : public brittle::Observer {
     if (s.splits == 0) return;
     const auto& fronts = sim.fronts();
     // A run too short for the speed window has no steady speed: say so, not "nan m/s".
-    char speed[96];
+    char speed[160];
     if (std::isfinite(s.crack_speed.speed))
       std::snprintf(speed, sizeof speed, "steady speed %.0f m/s", s.crack_speed.speed);
     else
       std::snprintf(speed, sizeof speed,
                     "no steady speed (fewer than 3 tip samples in the window from %.3g us)",
                     sim.scene().fracture.speed_window_start * 1e6);
+    if (s.speed_window_end == "nucleation ahead")
+      std::snprintf(speed + std::strlen(speed), sizeof speed - std::strlen(speed),
+                    " up to a crack nucleated ahead");
     if (sim.scene().initial.state == brittle::InitialParams::State::prestress)
-      say("brittle: %ld splits, tip at x = %.2f mm; %s (Zhou fit at W = %.0f N/m: %.0f m/s)\n",
-          s.splits, s.tip_x * 1e3, speed, s.W, s.zhou_speed);
+    {
+      char farthest[64] = "";  // a crack nucleated ahead: SPEC 5's largest-x split is there
+      if (s.max_split_x > s.tip_x + 1e-9)
+        std::snprintf(farthest, sizeof farthest, ", farthest split at x = %.2f mm",
+                      s.max_split_x * 1e3);
+      say("brittle: %ld splits, tip at x = %.2f mm%s; %s (Zhou fit at W = %.0f N/m: %.0f m/s; "
+          "W(1-nu^2) = %.0f N/m)\n",
+          s.splits, s.tip_x * 1e3, farthest, speed, s.W, s.zhou_speed, s.W_clamped);
+    }
     else
       say("brittle: %ld splits, leading tip at (%.2f, %.2f) mm; %s\n", s.splits, s.tip_x * 1e3,
           s.tip_y * 1e3, speed);

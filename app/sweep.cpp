@@ -92,15 +92,28 @@ SweepPoint read_run(const std::string& directory) {
   p.status = json.value("status", std::string("unknown"));
   p.load = value("sigma_over_sigmac");
   p.W = value("W");
+  p.W_clamped = value("W_clamped");
+  if (const auto n = json.find("nucleated_cracks"); n != json.end() && n->is_array())
+    p.nucleations = static_cast<int>(n->size());
+  if (const auto w = json.find("crack_speed_window_end"); w != json.end() && w->is_string())
+    p.window_end = w->get<std::string>();
+  if (const auto f = json.find("super_cp_front"); f != json.end() && f->is_object()) {
+    const auto field = [&](const char* key) {
+      return f->contains(key) && (*f)[key].is_number() ? (*f)[key].get<double>() : std::nan("");
+    };
+    p.notes = error_message("failure front faster than c_p at t = ", field("t") * 1e6, " us (",
+                            std::lround(field("speed")), " m/s > ", std::lround(field("c_p")),
+                            " m/s): not a physical crack");
+  }
   p.fitted_speed = value("crack_speed");
   p.r2 = value("crack_speed_r2");
   const double samples = value("crack_speed_samples");
   p.samples = std::isfinite(samples) ? static_cast<int>(samples) : 0;
   p.tip_x = value("tip_x");
   p.zhou_speed = value("zhou_speed");
-  // Arrest: the tip stopped short of the far edge. Read the tip series: it did not move
-  // over the last 5 us of the run although it is more than the speed window's margin away
-  // from x = L, or nothing split at all.
+  // Arrest: the crack stopped short of the far edge. Read the tip series: its farthest split
+  // (max_split_x; tip_x in files before it) did not move over the last 5 us of the run
+  // although it is more than the speed window's margin away from x = L, or nothing split.
   const double reach = value("speed_stop_x");
   std::ifstream csv(directory + "/crack_tip.csv");
   std::string line;
@@ -108,7 +121,10 @@ SweepPoint read_run(const std::string& directory) {
   std::vector<std::pair<double, double>> tip;
   while (std::getline(csv, line)) {
     const NumberList cells = parse_number_list(line);
-    if (!cells.bad && cells.values.size() >= 2) tip.emplace_back(cells.values[0], cells.values[1]);
+    if (!cells.bad && cells.values.size() >= 6)
+      tip.emplace_back(cells.values[0], cells.values[5]);
+    else if (!cells.bad && cells.values.size() >= 2)
+      tip.emplace_back(cells.values[0], cells.values[1]);
   }
   if (!tip.empty() && tip.back().second < reach) {
     const double t_end = tip.back().first;
@@ -123,15 +139,17 @@ SweepPoint read_run(const std::string& directory) {
 
 void write_sweep_csv(const std::string& path, const std::vector<SweepPoint>& points) {
   std::ostringstream out;
-  out << "sigma_over_sigmac,W,speed,fitted_speed,fit_r2,fit_samples,arrested,tip_x,zhou_speed,"
-         "status,directory\n"
+  out << "sigma_over_sigmac,W,W_clamped,speed,fitted_speed,fit_r2,fit_samples,window_end,arrested,"
+         "tip_x,nucleations,zhou_speed,status,notes,directory\n"
       << std::setprecision(10);
   for (const SweepPoint& p : points) {
     std::string status;  // a quoted CSV field: quotes doubled
     for (char c : p.status) status += c == '"' ? std::string("\"\"") : std::string(1, c);
-    out << p.load << ',' << p.W << ',' << p.speed << ',' << p.fitted_speed << ',' << p.r2 << ','
-        << p.samples << ',' << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ',' << p.zhou_speed
-        << ',' << '"' << status << '"' << ',' << p.directory << '\n';
+    out << p.load << ',' << p.W << ',' << p.W_clamped << ',' << p.speed << ',' << p.fitted_speed
+        << ',' << p.r2 << ',' << p.samples << ',' << p.window_end << ','
+        << (p.arrested ? "yes" : "no") << ',' << p.tip_x << ',' << p.nucleations << ','
+        << p.zhou_speed << ',' << '"' << status << '"' << ',' << '"' << p.notes << '"' << ','
+        << p.directory << '\n';
   }
   write_file_atomically(path, out.str());
 }
@@ -215,9 +233,9 @@ int sweep_command(const std::vector<std::string>& args) {
   bool all_completed = true;
   for (const SweepPoint& p : points) {
     std::printf("sigma/sigma_c = %.3f  W = %7.0f N/m  speed = %6.1f m/s  (fit r2 %.3f)%s  Zhou fit "
-                "%5.1f m/s  %s\n",
+                "%5.1f m/s  %s%s%s\n",
                 p.load, p.W, p.speed, p.r2, p.arrested ? "  arrested" : "", p.zhou_speed,
-                p.status.c_str());
+                p.status.c_str(), p.notes.empty() ? "" : "; ", p.notes.c_str());
     all_completed = all_completed && p.status == "completed";
   }
   std::string label = fs::path(o.scenes.front()).stem().string();

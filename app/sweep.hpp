@@ -23,6 +23,7 @@ struct SweepPoint {
   static constexpr double unknown = std::numeric_limits<double>::quiet_NaN();
   double load = unknown;          ///< sigma / sigma_c
   double W = unknown;             ///< H sigma^2 / (2E) [N/m]
+  double W_clamped = unknown;     ///< W (1 - nu^2) [N/m]: the clamped strip's release
   double speed = unknown;         ///< steady speed [m/s]; 0 when the crack arrested
   double fitted_speed = unknown;  ///< least-squares slope over the window, whatever happened
   double r2 = unknown;            ///< quality of that fit
@@ -30,6 +31,11 @@ struct SweepPoint {
   bool arrested = false;          ///< the tip stopped short of the far edge
   double tip_x = unknown;         ///< final tip [m]
   double zhou_speed = unknown;    ///< the Zhou et al. fit (1.1) at W [m/s]
+  int nucleations = 0;            ///< cracks nucleated away from the running one
+  std::string window_end;         ///< why the speed window ends (summary crack_speed_window_end)
+  /// What makes the speed suspect: "super-c_p front at t = .. us (.. m/s)" (issue 16); "" if
+  /// nothing.
+  std::string notes;
   std::string status;             ///< the run's status ("completed" or "failed: ...")
   std::string directory;          ///< the run's output directory
 };

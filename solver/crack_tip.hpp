@@ -14,6 +14,10 @@ struct TipSample {
   /// Where the tip is along the crack, the coordinate speeds are slopes of: x on the paper's
   /// plate (SPEC 5), the crack length from the notch tip along the leading path otherwise.
   double s = 0;
+  /// Simulation's samples only: SPEC 5's literal tip, the largest x of any split node (it jumps
+  /// to a crack nucleated ahead), and the nucleations so far (docs/crack_fronts.md).
+  double max_split_x = 0;
+  long nucleations = 0;
 };
 
 struct SpeedFit {
@@ -43,6 +47,56 @@ SpeedFit steady_speed_until(const std::vector<TipSample>& samples, double t_star
     if (stop(samples[end++])) break;
   return fit_speed(samples, begin, end);
 }
+
+/// The cracks as clusters of splits (docs/crack_fronts.md, "The tip"): a split within `join` of
+/// an earlier split, or of a seed, belongs to that crack; a split farther than `join` from all
+/// of them starts a new crack (a nucleation); a split near two cracks joins them. The tip on the
+/// paper's plate is the split of largest x of the crack grown from the seeds: SPEC 5's tip,
+/// without the jumps to cracks nucleated ahead. In-plane reference coordinates, as CrackFronts.
+class ConnectedCracks {
+ public:
+  explicit ConnectedCracks(double join) : join_(join) {}
+  void add_seed(double x, double y);
+  /// Returns true when the split starts a new crack.
+  bool on_split(double t, double x, double y);
+  /// The seeds' crack: its point of largest x (a seed before any split reaches it).
+  double tip_x() const { return x_[best_[find(0)]]; }
+  double tip_y() const { return y_[best_[find(0)]]; }
+  struct Start {
+    double t = 0, x = 0, y = 0;
+  };
+  /// Every crack started away from the others, in order.
+  const std::vector<Start>& nucleations() const { return nucleations_; }
+
+  /// The earliest moment a crack grew faster than `limit`: the growth of its reach (the
+  /// largest distance of its splits from where it started: the notch tip or its nucleation)
+  /// over the shortest stretch of at least `distance`, over at least `min_dt` (a step). A
+  /// crack joining another is not growth: reach series restart there. t = -1 when none did
+  /// (a front faster than c_p: docs/crack_fronts.md).
+  struct FastGrowth {
+    double t = -1, speed = 0, x = 0, y = 0;  ///< when, how fast, where the stretch ended
+  };
+  FastGrowth first_faster_than(double limit, double distance, double min_dt) const;
+
+ private:
+  int find(int i) const;
+  int add_point(double x, double y);
+  void grow(int root, double t, int point);  // the root's reach after `point` joined it
+  struct Reach {
+    std::vector<double> t, r;  // reach against time
+    std::vector<int> point;    // the split that set it
+  };
+  double join_;
+  std::vector<double> x_, y_;
+  mutable std::vector<int> parent_;
+  std::vector<int> best_;     // per root: the point of largest x
+  std::vector<int> origin_;   // per root: where its crack started
+  std::vector<int> reach_;    // per root: its open series in reaches_
+  std::vector<std::vector<int>> members_;  // per root: its points
+  std::vector<Reach> reaches_;
+  std::unordered_map<long long, std::vector<int>> cells_;  // points by join x join cell
+  std::vector<Start> nucleations_;
+};
 
 /// Instantaneous speed at every sample: least-squares slope of s over |t - t_i| <= half_window.
 std::vector<double> smoothed_speed(const std::vector<TipSample>& samples, double half_window);

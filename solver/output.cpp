@@ -464,10 +464,11 @@ void CrackTipCsvWriter::on_finish(const Simulation& sim, const RunSummary&) {
   const auto& samples = sim.tip_samples();
   const std::vector<double> speed = smoothed_speed(samples, 0.5e-6);
   std::ostringstream csv;
-  csv << "time,tip_x,tip_y,splits,speed\n" << std::setprecision(12);
+  csv << "time,tip_x,tip_y,splits,speed,max_split_x,nucleations\n" << std::setprecision(12);
   for (std::size_t i = 0; i < samples.size(); ++i)
     csv << samples[i].t << ',' << samples[i].x << ',' << samples[i].y << ',' << samples[i].splits
-        << ',' << speed[i] << '\n';
+        << ',' << speed[i] << ',' << samples[i].max_split_x << ',' << samples[i].nucleations
+        << '\n';
   write_file_atomically(directory_ + "/crack_tip.csv", csv.str());
 }
 
@@ -565,6 +566,19 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["crack_speed_samples"] = s.crack_speed.samples;
   j["crack_speed_window"] = {number(s.crack_speed.t_begin), number(s.crack_speed.t_end)};
   j["crack_speed_r2"] = number(s.crack_speed.r2);
+  j["crack_speed_window_end"] = s.speed_window_end;
+  j["max_split_x"] = number(s.max_split_x);
+  j["nucleated_cracks"] = nlohmann::ordered_json::array();  // ConnectedCracks: issue 16
+  for (const ConnectedCracks::Start& n : sim.cracks().nucleations())
+    j["nucleated_cracks"].push_back({{"t", number(n.t)}, {"x", number(n.x)}, {"y", number(n.y)}});
+  if (s.super_cp_front.happened)
+    j["super_cp_front"] = {{"t", number(s.super_cp_front.t)},
+                           {"speed", number(s.super_cp_front.speed)},
+                           {"c_p", number(s.super_cp_front.c_p)},
+                           {"x", number(s.super_cp_front.x)},
+                           {"y", number(s.super_cp_front.y)}};
+  else
+    j["super_cp_front"] = nullptr;
   j["speed_stop_x"] = measured("speed_stop_x", s.speed_stop_x);
   j["checkpoint"] = nullptr;  // the last checkpoint written (docs/checkpoint.md), if any
   j["checkpoint_time"] = nullptr;
@@ -573,6 +587,7 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["checkpoint_bytes"] = s.checkpoint_bytes;
   j["checkpoint_seconds"] = number(s.checkpoint_seconds);
   j["W"] = measured("W", s.W);
+  j["W_clamped"] = measured("W_clamped", s.W_clamped);
   j["zhou_speed"] = measured("zhou_speed", s.zhou_speed);
   // Every crack tip, branching and nucleation (docs/crack_fronts.md); positions reference.
   const CrackFronts& fronts = sim.fronts();

@@ -52,6 +52,10 @@ constexpr long kTimeStepCheckInterval = 20;
 /// dt follows the stable step down once that is this fraction below dt (cfl = 0.5 leaves a
 /// factor 2 to the limit: vibrating elements must not shave dt by round-off every check).
 constexpr double kReductionTrigger = 0.1;
+/// A crack's growth is checked against c_p over stretches of this many join distances: one
+/// split may extend a crack by up to one join, which over one join looks fast
+/// (docs/crack_fronts.md, "Fronts faster than c_p").
+constexpr double kFrontSpeedJoins = 3;
 /// dt may fall to this fraction of the initial step before the run stops.
 constexpr double kSmallestStepFraction = 0.05;
 /// More steps than this are refused at the start: at 20 M tet-updates/s a 45 k-tet run of that
@@ -113,11 +117,20 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   if (vtkDataArray* whole = reference_mesh.GetFieldData()->GetArray(kWholeBounds))
     for (int i = 0; i < 6; ++i) b[i] = whole->GetComponent(0, i);
   std::copy(b, b + 4, plate_box_);
+  reset_cracks();
   initial_points_ = grid_.num_points();
   fixed_nodes_ = std::count_if(grid_.fixed(), grid_.fixed() + grid_.num_points(),
                                [](std::uint8_t f) { return (f & 7) != 0; });
   std::uint64_t h = fnv1a(grid_.X(), 3 * sizeof(double) * grid_.num_points());
   mesh_fingerprint_ = fnv1a(grid_.cells(), 4 * sizeof(vtkIdType) * grid_.num_cells(), h);
+}
+
+void Simulation::reset_cracks() {
+  cracks_ = ConnectedCracks(fronts_.join());
+  const GeometryParams& g = scene_.geometry;
+  if (g.notches.empty()) cracks_.add_seed(g.notch_depth, 0.0);
+  for (const NotchParams& n : g.notches)
+    cracks_.add_seed(n.start[0] + n.length * n.direction[0], n.start[1] + n.length * n.direction[1]);
 }
 
 CrackFronts Simulation::make_crack_fronts() const {
@@ -135,6 +148,7 @@ void Simulation::decompose(Halo& halo) {
   fracture_.defer_counting();
   boundary_.keep_nodes(halo.owned());
   fronts_ = make_crack_fronts();
+  reset_cracks();
   StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
   vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
   halo.min_with_id(stable.dt, element);
@@ -190,6 +204,7 @@ void Simulation::step_towards(double until) {
                        f.dissipated, f.A_c, f.a, f.b});
   for (const GlobalSplit& split : global_splits_) {
     fronts_.on_split(time_, split.X[0], split.X[1]);
+    cracks_.on_split(time_, split.X[0], split.X[1]);
     events_.push_back({time_, split.X[0], split.X[1], split.X[2], CrackEvent::Kind::split, 0.0,
                        split.A_c, split.a, split.b});
   }
@@ -401,17 +416,20 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       }
       for (Observer* o : observers) o->on_energy(*this, e);
       ++p.energy_rows;
-      if (scene_.geometry.notches.empty()) {  // the paper's plate: largest x (SPEC 5)
-        const bool split = fracture_.splits() > 0;
-        const double x = split ? fracture_.tip_x() : scene_.geometry.notch_depth;
-        tip_samples_.push_back({time_, x, split ? fracture_.tip_y() : 0.0, fracture_.splits(), x});
-      } else {  // the leading tip; s = its crack length from the notch tip
-        const int lead = fronts_.leading();
-        const TipTrack& t = fronts_.tips()[lead];
-        const TipSample head = fronts_.head(lead);
-        tip_samples_.push_back({time_, head.x, head.y, fracture_.splits(),
-                                t.length_at_start + (t.arc.empty() ? 0.0 : t.arc.back())});
+      // The tip is on the crack grown from a notch: a split not connected to it (a crack
+      // nucleated ahead) does not move it (docs/crack_fronts.md, "The tip").
+      const int lead = fronts_.leading();
+      const TipTrack& track = fronts_.tips()[lead];
+      const TipSample head = fronts_.head(lead);
+      TipSample sample{time_, head.x, head.y, fracture_.splits(),
+                       track.length_at_start + (track.arc.empty() ? 0.0 : track.arc.back())};
+      if (scene_.geometry.notches.empty()) {  // the paper's plate: x of the notch's crack (SPEC 5)
+        sample.x = sample.s = cracks_.tip_x();
+        sample.y = cracks_.tip_y();
       }
+      sample.max_split_x = fracture_.splits() > 0 ? fracture_.tip_x() : sample.x;
+      sample.nucleations = static_cast<long>(cracks_.nucleations().size());
+      tip_samples_.push_back(sample);
       while (due(p.next_energy)) p.next_energy += energy_interval;
     }
     bool frame = false;
@@ -540,12 +558,36 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.final_dt = dt_;
   summary.dt_reductions = dt_reductions_;
   summary.substep_cap_steps = substep_cap_steps_;
-  if (!tip_samples_.empty())
+  if (!tip_samples_.empty()) {
     summary.tip_x = tip_samples_.back().x, summary.tip_y = tip_samples_.back().y;
+    summary.max_split_x = tip_samples_.back().max_split_x;
+  }
   summary.speed_stop_x = scene_.geometry.L - scene_.fracture.speed_edge_margin;
   if (scene_.geometry.notches.empty()) {
-    summary.crack_speed =
-        steady_speed(tip_samples_, scene_.fracture.speed_window_start, summary.speed_stop_x);
+    // The window ends at the far edge, or at the first crack nucleated ahead of the tip:
+    // what follows is two cracks (issue 16; docs/crack_fronts.md, "The tip").
+    double nucleated_ahead = std::numeric_limits<double>::infinity();
+    for (const ConnectedCracks::Start& n : cracks_.nucleations()) {
+      double tip = scene_.geometry.notch_depth;  // the tip when it nucleated
+      for (const TipSample& s : tip_samples_)
+        if (s.t <= n.t) tip = s.x;
+      if (n.x > tip) {
+        nucleated_ahead = n.t;
+        break;
+      }
+    }
+    const double stop_x = summary.speed_stop_x;
+    summary.crack_speed = steady_speed_until(
+        tip_samples_, scene_.fracture.speed_window_start,
+        [&](const TipSample& s) { return s.x >= stop_x || s.t >= nucleated_ahead; });
+    if (summary.crack_speed.samples >= 3) {
+      const double t_end = summary.crack_speed.t_end;
+      const auto last = std::find_if(tip_samples_.begin(), tip_samples_.end(),
+                                     [&](const TipSample& s) { return s.t == t_end; });
+      summary.speed_window_end = t_end >= nucleated_ahead   ? "nucleation ahead"
+                                 : last->x >= stop_x        ? "far edge"
+                                                            : "end of run";
+    }
   } else {  // the window ends when the leading tip comes within the margin of the outline
     const GeometryParams& g = scene_.geometry;
     const double margin = scene_.fracture.speed_edge_margin;
@@ -553,8 +595,34 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         tip_samples_, scene_.fracture.speed_window_start, [&](const TipSample& p) {
           return std::min({p.x, g.L - p.x, p.y + 0.5 * g.H, 0.5 * g.H - p.y}) <= margin;
         });
+    if (summary.crack_speed.samples >= 3) {
+      const TipSample& last = *std::find_if(
+          tip_samples_.begin(), tip_samples_.end(),
+          [&](const TipSample& s) { return s.t == summary.crack_speed.t_end; });
+      summary.speed_window_end =
+          std::min({last.x, g.L - last.x, last.y + 0.5 * g.H, 0.5 * g.H - last.y}) <= margin
+              ? "far edge"
+              : "end of run";
+    }
+  }
+  // A failure front faster than c_p (issue 16): no crack runs faster than c_R < c_s < c_p; a
+  // front that does is the criterion firing wherever the load alone reaches sigma_c
+  // (docs/crack_fronts.md, "Fronts faster than c_p").
+  const ConnectedCracks::FastGrowth fast =
+      cracks_.first_faster_than(constants_.c_p, kFrontSpeedJoins * fronts_.join(), initial_dt_);
+  if (fast.t >= 0) {
+    summary.super_cp_front = {true, fast.t, fast.speed, constants_.c_p, fast.x, fast.y};
+    const std::string w = error_message(
+        "a failure front ran faster than c_p at t = ", fast.t * 1e6, " us, (", fast.x * 1e3,
+        ", ", fast.y * 1e3, ") mm (", std::lround(fast.speed), " m/s > c_p = ",
+        std::lround(constants_.c_p),
+        " m/s): not a physical crack; the criterion fires wherever the load alone reaches "
+        "sigma_c (docs/crack_fronts.md)");
+    summary.warnings.push_back(w);
+    for (Observer* o : observers) o->on_warning(*this, w);
   }
   summary.W = strain_energy_per_area(scene_.geometry.H, sigma_, scene_.material.E);
+  summary.W_clamped = summary.W * (1 - scene_.material.nu * scene_.material.nu);
   summary.zhou_speed = zhou_speed(summary.W);
   summary.phases = phases();
   // Every observer gets on_finish (the summary is written after the CSVs); the first error

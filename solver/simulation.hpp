@@ -90,7 +90,19 @@ struct RunSummary {
   double tip_x = 0, tip_y = 0;      ///< final crack tip (reference coordinates)
   SpeedFit crack_speed;             ///< steady speed over the window of SPEC 5
   double speed_stop_x = 0;          ///< the window ends when the tip passes this x
+  /// Why the speed window ends where it does: "far edge" (the tip passed speed_stop_x),
+  /// "nucleation ahead" (a crack nucleated ahead of the tip: SPEC 5's largest-x tip jumps
+  /// there), "end of run", or "" (no fit).
+  std::string speed_window_end;
+  double max_split_x = 0;           ///< SPEC 5's literal tip: the largest x of a split node
+  /// A failure front faster than c_p: a crack grew faster than c_p, first at t, reaching (x, y)
+  /// (not a physical crack; docs/crack_fronts.md).
+  struct {
+    bool happened = false;
+    double t = 0, speed = 0, c_p = 0, x = 0, y = 0;
+  } super_cp_front;
   double W = 0;                     ///< H sigma^2 / (2E)
+  double W_clamped = 0;             ///< W (1 - nu^2): the energy a clamped strip releases
   double zhou_speed = 0;            ///< speed of the Zhou et al. fit (1.1) at W
   PhaseTimes phases;                ///< wall time per phase of the step loop
   std::string checkpoint;           ///< the last checkpoint written (empty: none)
@@ -225,6 +237,8 @@ class Simulation {
   const std::vector<TipSample>& tip_samples() const { return tip_samples_; }
   /// Every crack tip, branching and nucleation so far (docs/crack_fronts.md).
   const CrackFronts& fronts() const { return fronts_; }
+  /// The splits as connected cracks: the tip of the notch's crack, the cracks nucleated apart.
+  const ConnectedCracks& cracks() const { return cracks_; }
   /// Whether, where and when a crack from a notch reached the plate's outer boundary.
   const CutThrough& cut_through() const { return cut_; }
   /// Every split and link failure so far, in order (the event catalogue).
@@ -260,6 +274,8 @@ class Simulation {
   PhaseTimes own_times_;  // bookkeeping and output (the integrator times the rest)
   std::vector<TipSample> tip_samples_;
   CrackFronts fronts_;
+  ConnectedCracks cracks_{1.0};  // the splits as connected cracks (reset_cracks)
+  void reset_cracks();  // empty, seeded at the notch tips, with the fronts' join distance
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   ExactSum damage_dissipated_;  // (the viscous work is kept per element: ForceAssembler)

@@ -141,7 +141,8 @@ TEST(CrackPattern, AnalyzeRebuildsTheRunsPattern) {
   const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
   auto r = brittle_test::run_brittle(dir, {"run", scenes + "cm.ini", scenes + "branching.ini",
                                            "--set", "run.end_time=12e-6", "--set",
-                                           "output.vtu=false", "--out", out.string()});
+                                           "mesh.size=1e-3", "--set", "output.vtu=false",
+                                           "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"events.csv", "branches.csv", "pattern.json"})
     ASSERT_TRUE(fs::exists(out / f)) << f;

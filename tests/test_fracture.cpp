@@ -234,6 +234,95 @@ TEST(Straight, CrackRunsAlongTheMidPlaneToTheFarEdge) {
   expect_valid_grid(g, "straight");
 }
 
+// Issue 16: at 0.97 sigma_c without damage, a pulse reflected from the clamped edges lifts a
+// node on y = 0 ahead of the crack over sigma_c (CM: at 18.3 us, x = 25 mm, the tip at about
+// 19.5 mm). It is a nucleation: it does not move the tip (SPEC 5's largest split x jumps to it),
+// the speed window ends there and says so, the notch's tip runs below v_R and the steady speed
+// below c_s; the nucleated crack then unzips towards the free edge faster than c_p, and the
+// run says so.
+TEST(Straight, ACrackNucleatedAheadDoesNotMoveTheTip) {
+  Scene s = testing::plate_scene(0.97, 22e-6, FractureParams::Mode::straight);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const RunSummary summary = sim.run({});
+  ASSERT_EQ(summary.status, "completed");
+  const auto& nucleated = sim.cracks().nucleations();
+  ASSERT_FALSE(nucleated.empty());
+  const ConnectedCracks::Start n = nucleated.front();
+  double tip_then = 0, max_then = 0;
+  for (const TipSample& t : sim.tip_samples()) {
+    if (t.t > n.t) break;
+    tip_then = t.x;
+  }
+  EXPECT_GT(n.x - tip_then, 4e-3) << "a split mm ahead of the crack";
+  EXPECT_NEAR(n.y, 0.0, 1e-12);
+  for (const TipSample& t : sim.tip_samples()) {
+    if (t.t >= n.t && t.t < n.t + 0.5e-6) {
+      EXPECT_LT(t.x, n.x - 2e-3) << "the tip did not jump at " << t.t;
+      max_then = std::max(max_then, t.max_split_x);
+    }
+  }
+  EXPECT_GE(max_then, n.x) << "SPEC 5's largest split x did";
+  EXPECT_EQ(summary.speed_window_end, "nucleation ahead");
+  EXPECT_LE(summary.crack_speed.t_end, n.t + s.output.energy_interval);
+  const double v_R = DamageParams{}.v_R;  // 906 m/s
+  const double c_s = sim.constants().c_s;
+  ASSERT_FALSE(sim.fronts().tips().empty());
+  const SpeedFit notch_tip = sim.fronts().speed(0);
+  EXPECT_LT(notch_tip.speed, v_R) << "the notch's tip over its whole run";
+  EXPECT_LT(summary.crack_speed.speed, c_s) << "the steady speed: no supersonic crack";
+  EXPECT_GT(summary.crack_speed.speed, 0.9 * v_R);
+  EXPECT_TRUE(summary.super_cp_front.happened) << "the nucleated crack unzips";
+  EXPECT_GT(summary.super_cp_front.t, n.t);
+  EXPECT_GT(summary.super_cp_front.speed, sim.constants().c_p);
+  std::cout << "[ 0.97 sigma_c ] nucleation at t = " << n.t * 1e6 << " us, x = " << n.x * 1e3
+            << " mm (tip at " << tip_then * 1e3 << " mm); steady speed "
+            << summary.crack_speed.speed << " m/s to " << summary.crack_speed.t_end * 1e6
+            << " us; notch tip " << notch_tip.speed << " m/s; front " << summary.super_cp_front.speed
+            << " m/s at " << summary.super_cp_front.t * 1e6 << " us\n";
+}
+
+// Issue 16: at exactly sigma_c the whole plane is at the criterion and fails at about h/dt, far
+// faster than c_p (non-causal): the run flags it. At 0.9 sigma_c nothing is flagged.
+TEST(Straight, FailureAtSigmaCIsFlaggedAsAFrontFasterThanCp) {
+  for (const double load : {1.0, 0.9}) {
+    Scene s = testing::plate_scene(load, 6e-6, FractureParams::Mode::straight);
+    auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+    Simulation sim(s, *mesh);
+    const RunSummary summary = sim.run({});
+    ASSERT_EQ(summary.status, "completed");
+    EXPECT_EQ(summary.super_cp_front.happened, load == 1.0) << load;
+    if (load != 1.0) continue;
+    EXPECT_GT(summary.super_cp_front.speed, 4 * sim.constants().c_p);
+    EXPECT_LT(summary.super_cp_front.t, 2e-6);
+    EXPECT_TRUE(std::any_of(summary.warnings.begin(), summary.warnings.end(), [](const std::string& w) {
+      return w.find("faster than c_p") != std::string::npos;
+    }));
+  }
+}
+
+// Issue 16: on a plate twice as long (L = 64 mm) the free far-edge node on y = 0 splits while
+// the tip is about 16 mm away (52.8 us): it is a nucleation, the speed window ends before it,
+// and no sample of the fit is at the far edge.
+TEST(Straight, AFarEdgeSplitDoesNotEnterTheFit) {
+  Scene s = testing::plate_scene(0.9, 54e-6, FractureParams::Mode::straight);
+  s.geometry.L = 64e-3;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const RunSummary summary = sim.run({});
+  ASSERT_EQ(summary.status, "completed");
+  const auto& nucleated = sim.cracks().nucleations();
+  ASSERT_EQ(nucleated.size(), 1u);
+  EXPECT_DOUBLE_EQ(nucleated.front().x, s.geometry.L) << "the far edge";
+  EXPECT_EQ(summary.speed_window_end, "nucleation ahead");
+  EXPECT_GT(summary.crack_speed.samples, 100);
+  for (const TipSample& t : sim.tip_samples())
+    if (t.t <= summary.crack_speed.t_end) EXPECT_LT(t.x, s.geometry.L - 10e-3) << t.t;
+  EXPECT_LT(summary.tip_x, s.geometry.L - 10e-3) << "the tip did not jump to the edge";
+  EXPECT_DOUBLE_EQ(summary.max_split_x, s.geometry.L);
+  EXPECT_LT(summary.crack_speed.speed, DamageParams{}.v_R);
+}
+
 // Branching mode, CM, 0.9 sigma_c: the crack leaves the mid-plane (it branches: split nodes
 // more than two elements away on either side), makes more surface than the straight crack
 // through the ligament, keeps the energy budget within 0.1 %, and leaves a valid grid.

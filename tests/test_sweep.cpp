@@ -66,12 +66,15 @@ TEST(Sweep, ParallelRunsMatchSingleRuns) {
 
   EXPECT_GT(fs::file_size(dir / "sweep" / "sweep.png"), 1000u);
   const std::string csv = read(dir / "sweep" / "sweep.csv");
-  EXPECT_NE(csv.find("sigma_over_sigmac,W,speed,fitted_speed,fit_r2"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("sigma_over_sigmac,W,W_clamped,speed,fitted_speed,fit_r2"), std::string::npos)
+      << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
   const SweepPoint p = read_run((dir / "sweep" / "load_0.900").string());
   EXPECT_EQ(p.status, "completed");
   EXPECT_GT(p.speed, 100.0);
   EXPECT_FALSE(p.arrested);
+  EXPECT_DOUBLE_EQ(p.W_clamped, p.W * (1 - 0.35 * 0.35)) << "W (1 - nu^2), nu = 0.35";
+  EXPECT_EQ(p.window_end, "end of run");
   std::ifstream a_file(dir / "sweep" / "load_0.900" / "summary.json"),
       b_file(dir / "single" / "summary.json");
   const auto a = nlohmann::json::parse(a_file), b = nlohmann::json::parse(b_file);
