@@ -20,7 +20,6 @@
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
-#include <vtkWindowToImageFilter.h>
 
 #include "error.hpp"
 #include "image_tools.hpp"
@@ -90,13 +89,7 @@ void write_chart_png(const std::string& path, const ChartAxes& axes,
       if (s.style == ChartSeries::Style::dashed) plot->GetPen()->SetLineType(vtkPen::DASH_LINE);
     }
   }
-  window.window()->Render();
-  auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
-  grab->SetInput(window.window());
-  grab->ReadFrontBufferOff();
-  grab->SetInputBufferTypeToRGB();
-  grab->Update();
-  write_png(*grab->GetOutput(), path);
+  write_png(*snapshot(window), path);
 }
 
 namespace {

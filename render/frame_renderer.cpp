@@ -39,6 +39,7 @@
 #include "crack_surface.hpp"
 #include "error.hpp"
 #include "grid.hpp"
+#include "image_tools.hpp"
 #include "offscreen_window.hpp"
 
 namespace brittle::render {
@@ -427,15 +428,7 @@ vtkSmartPointer<vtkImageData> FrameRenderer::colour_bar(Field field, int width, 
   name->GetTextProperty()->SetJustificationToCentered();
   name->GetTextProperty()->SetVerticalJustificationToTop();
   renderer->AddViewProp(name);
-  window.window()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window.window());
-  grab->ReadFrontBufferOff();
-  grab->SetInputBufferTypeToRGB();
-  grab->Update();
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->DeepCopy(grab->GetOutput());
-  return image;
+  return snapshot(window);
 }
 
 vtkSmartPointer<vtkImageData> FrameRenderer::render(vtkUnstructuredGrid& grid, Field field,

@@ -59,6 +59,18 @@ vtkSmartPointer<vtkImageData> read_png(const std::string& path) {
   return image;
 }
 
+vtkSmartPointer<vtkImageData> snapshot(OffscreenWindow& window) {
+  window.window()->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window.window());
+  grab->ReadFrontBufferOff();
+  grab->SetInputBufferTypeToRGB();
+  grab->Update();
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->DeepCopy(grab->GetOutput());
+  return image;
+}
+
 vtkSmartPointer<vtkImageData> text_image(const std::string& text, int width, int height,
                                          int font_size, bool bold) {
   OffscreenWindow window(width, height);
@@ -79,15 +91,7 @@ vtkSmartPointer<vtkImageData> text_image(const std::string& text, int width, int
   p->SetJustificationToCentered();
   p->SetVerticalJustificationToCentered();
   renderer->AddViewProp(actor);
-  window.window()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window.window());
-  grab->ReadFrontBufferOff();
-  grab->SetInputBufferTypeToRGB();
-  grab->Update();
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->DeepCopy(grab->GetOutput());
-  return image;
+  return snapshot(window);
 }
 
 namespace {

@@ -13,6 +13,10 @@ namespace brittle::render {
 
 /// Writes an RGB(A) image as PNG (parent directories are created); throws brittle::Error.
 void write_png(vtkImageData& image, const std::string& path);
+
+class OffscreenWindow;
+/// Renders the window and returns its RGB pixels (a copy the window no longer touches).
+vtkSmartPointer<vtkImageData> snapshot(OffscreenWindow& window);
 /// Reads a PNG as RGB; throws brittle::Error naming the file when it cannot be read.
 vtkSmartPointer<vtkImageData> read_png(const std::string& path);
 
