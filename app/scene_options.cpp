@@ -214,6 +214,35 @@ std::string lower(std::string s) {
   return s;
 }
 
+/// A word key bound to an enum member of Scene: `words` in the order --help lists them, matched
+/// without regard to case; the default is the word of Scene{}'s value.
+template <class Section, class E>
+Key word(std::string name, Section Scene::*section, E Section::*member, std::string meaning,
+         std::string range, std::vector<std::pair<std::string, E>> words) {
+  const auto word_of = [words](E v) {
+    for (const auto& [w, e] : words)
+      if (e == v) return w;
+    return words.front().first;
+  };
+  const std::string def = word_of(Scene{}.*section.*member);
+  Key k = typed<std::string>(std::move(name), "", std::move(meaning), std::move(range), def, def,
+                             [section, member, words](const std::string& text, const Source&,
+                                                      Scene& scene) {
+                               const std::string v = lower(text);
+                               for (const auto& [w, e] : words)
+                                 if (v == w) {
+                                   scene.*section.*member = e;
+                                   return Verdict::ok;
+                                 }
+                               return Verdict::out_of_range;
+                             });
+  k.get = [section, member, word_of](const Scene& s) -> std::optional<std::string> {
+    return word_of(s.*section.*member);
+  };
+  for (const auto& [w, e] : words) k.choices.push_back(w);
+  return k;
+}
+
 /// THE table: every scene key, in the order --help and docs/scenes.md list them.
 const std::vector<Key>& scene_keys() {
   static const std::vector<Key> keys = [] {
@@ -302,46 +331,15 @@ const std::vector<Key>& scene_keys() {
       return format_double(s.loading.sigma);
     };
     // [initial] — the state at t = 0 (initial velocities: [initial.NAME] sections)
-    k.push_back(
-        typed<std::string>("initial.state", "", "state at t = 0",
-                           "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
-                           std::string("prestress"), "prestress",
-                           [](const std::string& text, const Source&, Scene& scene) {
-                             const std::string v = lower(text);
-                             if (v == "prestress")
-                               scene.initial.state = InitialParams::State::prestress;
-                             else if (v == "rest")
-                               scene.initial.state = InitialParams::State::rest;
-                             else
-                               return Verdict::out_of_range;
-                             return Verdict::ok;
-                           }));
-    k.back().get = [](const Scene& s) -> std::optional<std::string> {
-      return s.initial.state == InitialParams::State::rest ? "rest" : "prestress";
-    };
-    k.back().choices = {"prestress", "rest"};
+    k.push_back(word("initial.state", &Scene::initial, &InitialParams::state, "state at t = 0",
+                     "prestress (the uniaxial pre-stress of [loading], (B.6)-(B.9)) | rest",
+                     {{"prestress", InitialParams::State::prestress},
+                      {"rest", InitialParams::State::rest}}));
     // [fracture] — node splitting and nodal cohesive forces (SPEC 5)
-    k.push_back(typed<std::string>(
-        "fracture.mode", "", "which nodes may split",
+    k.push_back(word(
+        "fracture.mode", &Scene::fracture, &FP::mode, "which nodes may split",
         "none | straight (only y = 0, x >= a, normal stress (6.7)) | branching (any node)",
-        std::string("none"), "none", [](const std::string& text, const Source&, Scene& scene) {
-          const std::string v = lower(text);
-          if (v == "none")
-            scene.fracture.mode = FP::Mode::none;
-          else if (v == "straight")
-            scene.fracture.mode = FP::Mode::straight;
-          else if (v == "branching")
-            scene.fracture.mode = FP::Mode::branching;
-          else
-            return Verdict::out_of_range;
-          return Verdict::ok;
-        }));
-    k.back().get = [](const Scene& s) -> std::optional<std::string> {
-      return s.fracture.mode == FP::Mode::straight    ? "straight"
-             : s.fracture.mode == FP::Mode::branching ? "branching"
-                                                      : "none";
-    };
-    k.back().choices = {"none", "straight", "branching"};
+        {{"none", FP::Mode::none}, {"straight", FP::Mode::straight}, {"branching", FP::Mode::branching}}));
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
                       "paper RD: 9.35e-8",
@@ -482,23 +480,10 @@ const std::vector<Key>& scene_keys() {
                       non_negative));
     k.push_back(field("render.zoom", &Scene::render, &ReP::zoom, "",
                       "camera zoom about the plate centre (1 = whole plate)", "> 0", positive));
-    k.push_back(typed<std::string>(
-        "render.colormap", "", "colour ramp of sigma1 and Omega frames",
-        "jet (blue -> red, the paper's) | viridis (perceptually uniform)", std::string("jet"),
-        "jet", [](const std::string& text, const Source&, Scene& scene) {
-          const std::string v = lower(text);
-          if (v == "jet")
-            scene.render.colormap = ReP::Colormap::jet;
-          else if (v == "viridis")
-            scene.render.colormap = ReP::Colormap::viridis;
-          else
-            return Verdict::out_of_range;
-          return Verdict::ok;
-        }));
-    k.back().get = [](const Scene& s) -> std::optional<std::string> {
-      return s.render.colormap == ReP::Colormap::viridis ? "viridis" : "jet";
-    };
-    k.back().choices = {"jet", "viridis"};
+    k.push_back(word("render.colormap", &Scene::render, &ReP::colormap,
+                     "colour ramp of sigma1 and Omega frames",
+                     "jet (blue -> red, the paper's) | viridis (perceptually uniform)",
+                     {{"jet", ReP::Colormap::jet}, {"viridis", ReP::Colormap::viridis}}));
     k.push_back(typed<std::string>("render.directory", "", "where PNG frames go",
                                    "empty = <output.directory>/render", std::string(), "\"\"",
                                    [](const std::string& v, const Source&, Scene& scene) {
