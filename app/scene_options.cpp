@@ -262,6 +262,15 @@ const std::vector<Key>& scene_keys() {
                       "normalized dilatational damping (B.5)", ">= 0", non_negative));
     k.push_back(field("material.zeta2", &Scene::material, &MP::zeta2, "",
                       "normalized distortional damping (B.5)", ">= 0", non_negative));
+    k.push_back(field("material.weibull_modulus", &Scene::material, &MP::weibull_modulus, "",
+                      "Weibull modulus m of the nodes' strengths (mean sigma_c; "
+                      "docs/branching.md); 0 = every node at sigma_c (the paper)",
+                      "0 or 1 <= m <= 100",
+                      [](const double& v) { return v == 0 || (v >= 1 && v <= 100); }));
+    k.push_back(field("material.strength_seed", &Scene::material, &MP::strength_seed, "",
+                      "seed of the nodes' Weibull strengths (the same seed, the same strengths "
+                      "for any thread or rank count)",
+                      ">= 0", [](const int& v) { return v >= 0; }));
     // [geometry] — the notched plate (SPEC 1)
     k.push_back(field("geometry.L", &Scene::geometry, &GP::L, "m",
                       "plate length along x (crack direction)", "> 0", positive));

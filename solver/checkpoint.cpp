@@ -177,7 +177,8 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
     out.emplace_back(name, std::move(w.bytes()));
   };
   MaterialParams& m = s.material;
-  section("material", m.rho0, m.E, m.nu, m.sigma_c, m.gamma, m.zeta1, m.zeta2);
+  section("material", m.rho0, m.E, m.nu, m.sigma_c, m.gamma, m.zeta1, m.zeta2, m.weibull_modulus,
+          m.strength_seed);
   GeometryParams& g = s.geometry;
   section("geometry", g.L, g.H, g.T, g.notch_depth, g.notch_base, g.notches);
   MeshParams& me = s.mesh;
@@ -202,7 +203,8 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 3;  // 2: exact energy sums; 3: cut-through and colormap keys
+constexpr std::uint32_t kFormat = 4;  // 2: exact energy sums; 3: cut-through and colormap keys;
+                                      // 4: Weibull strength keys
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -19,6 +20,9 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links)
       region_(scene.fracture.region),
       sigma_c_(scene.material.sigma_c),
       rho0_(scene.material.rho0),
+      weibull_m_(scene.material.weibull_modulus),
+      weibull_scale_(weibull_m_ > 0 ? sigma_c_ / std::tgamma(1.0 + 1.0 / weibull_m_) : 0.0),
+      strength_seed_(static_cast<std::uint64_t>(scene.material.strength_seed)),
       links_(links),
       tip_x_(std::numeric_limits<double>::quiet_NaN()),
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
@@ -31,6 +35,41 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links)
     if (!grid.fixed()[p] && std::abs(X[3 * p + 1]) < tol &&
         X[3 * p] >= scene.geometry.notch_depth - tol && may_break(grid, p))
       plane_nodes_.push_back(p);
+}
+
+namespace {
+
+/// SplitMix64's finaliser: a well-mixed 64-bit hash step.
+std::uint64_t mix64(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+/// sigma_c,K = s0 (-ln U)^(1/m), s0 = sigma_c / Gamma(1 + 1/m): Weibull, mean sigma_c; U from a
+/// hash of the seed and the bits of the node's reference position (docs/branching.md).
+double Fracture::strength(const Grid& grid, vtkIdType p) const {
+  if (weibull_m_ <= 0) return sigma_c_;
+  std::uint64_t h = mix64(strength_seed_ + 0x9e3779b97f4a7c15ULL);
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits;
+    const double X = grid.X()[3 * p + k] + 0.0;  // -0.0 and 0.0 are the same place
+    std::memcpy(&bits, &X, sizeof bits);
+    h = mix64(h ^ (bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2)));
+  }
+  const double U = (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;  // in (0, 1)
+  return weibull_scale_ * std::pow(-std::log(U), 1.0 / weibull_m_);
+}
+
+const double* Fracture::strengths(const Grid& grid) const {
+  if (weibull_m_ <= 0) return nullptr;
+  const auto n = static_cast<std::size_t>(grid.num_points());
+  if (node_strength_.size() > n) node_strength_.clear();  // (a restored, smaller grid)
+  for (std::size_t p = node_strength_.size(); p < n; ++p)
+    node_strength_.push_back(strength(grid, static_cast<vtkIdType>(p)));
+  return node_strength_.data();
 }
 
 bool Fracture::may_break(const Grid& grid, vtkIdType p) const {
@@ -51,15 +90,24 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   // "sigma1 reaches sigma_c" up to round-off: a plate loaded to exactly sigma_c holds T_yy =
   // sigma_c to ~1e-15 everywhere, and that uniform state must not break every node at once.
   const double sigma_c = sigma_c_ * (1.0 + 1e-9);
+  // Heterogeneous strengths (material.weibull_modulus): each node's own, with the same margin.
+  const double* own = strengths(grid);
+  const auto strength_of = [&](vtkIdType p) { return own ? own[p] * (1.0 + 1e-9) : sigma_c; };
   // The average's largest principal value (and its normal component) is at most the largest
   // bound of the node's elements: only corners of elements whose bound reaches sigma_c can
   // split. Straight mode has its few plane nodes; elsewhere they are found from the elements.
   if (!straight) {
     const vtkIdType* cells = grid.cells();
     hot_.assign(grid.num_points(), 0);
-    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
-      if (bound[e] >= sigma_c)
-        for (int k = 0; k < 4; ++k) hot_[cells[4 * e + k]] = 1;
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+      const vtkIdType* corner = cells + 4 * e;
+      const double weakest =
+          own ? std::min(std::min(strength_of(corner[0]), strength_of(corner[1])),
+                         std::min(strength_of(corner[2]), strength_of(corner[3])))
+              : sigma_c;
+      if (bound[e] >= weakest)
+        for (int k = 0; k < 4; ++k) hot_[corner[k]] = 1;
+    }
     hot_nodes_.clear();
     for (vtkIdType p = 0; p < grid.num_points(); ++p)
       if (hot_[p]) hot_nodes_.push_back(p);
@@ -73,11 +121,12 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 #pragma omp for schedule(static) nowait
     for (vtkIdType i = 0; i < count; ++i) {
       const vtkIdType p = nodes[i];
+      const double sigma_K = strength_of(p);
       if (fixed[p] || (!straight && !may_break(grid, p))) continue;
       if (straight) {  // (hot nodes passed this filter by construction)
         double most = -std::numeric_limits<double>::infinity();
         for (vtkIdType k = start[p]; k < end[p]; ++k) most = std::max(most, bound[entries[k] / 4]);
-        if (most < sigma_c) continue;
+        if (most < sigma_K) continue;
       }
       // T_avg(K) = sum_I v_I T_el,I / sum_I v_I   (2.10)
       double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
@@ -94,13 +143,13 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
       if (straight) {
         c.sigma1 = T(1, 1);  // sigma1 = n . T_avg n, n = e_y   (6.7)
       } else {
-        if (principal_values_below(T, sigma_c)) continue;  // no eigen-solve needed
+        if (principal_values_below(T, sigma_K)) continue;  // no eigen-solve needed
         Eigen::SelfAdjointEigenSolver<Mat3> eig;
         eig.computeDirect(T);
         c.sigma1 = eig.eigenvalues()[2];  // sigma1 >= sigma2 >= sigma3   (2.12)
         c.normal = eig.eigenvectors().col(2);
       }
-      if (c.sigma1 >= sigma_c) mine.push_back(c);
+      if (c.sigma1 >= sigma_K) mine.push_back(c);
     }
 #pragma omp critical
     found.insert(found.end(), mine.begin(), mine.end());

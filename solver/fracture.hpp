@@ -2,6 +2,7 @@
 // granddaughters with their nodal cohesive forces (paper sections 2-4, Appendix A; SPEC 5).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "cohesive.hpp"
@@ -69,6 +70,10 @@ class Fracture {
   double tip_x() const { return tip_x_; }
   double tip_y() const { return tip_y_; }
   bool enabled() const { return mode_ != FractureParams::Mode::none; }
+  /// The strength of node p: sigma_c, or its Weibull sample (material.weibull_modulus). A
+  /// function of the node's reference position and the seed only, so daughters keep their
+  /// mother's strength, and every thread and rank count draws the same values.
+  double strength(const Grid& grid, vtkIdType p) const;
 
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
@@ -84,6 +89,12 @@ class Fracture {
   FractureParams::Mode mode_;
   std::vector<double> region_;
   double sigma_c_, rho0_;
+  double weibull_m_ = 0, weibull_scale_ = 0;
+  std::uint64_t strength_seed_ = 0;
+  /// Per-node strengths (heterogeneous runs), extended to new nodes as they appear: a cache
+  /// of strength(), rebuilt from the reference positions after a restore.
+  mutable std::vector<double> node_strength_;
+  const double* strengths(const Grid& grid) const;
   CohesiveLinks& links_;
   std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a
   std::vector<vtkIdType> root_;  // the original node every node descends from

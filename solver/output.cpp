@@ -28,6 +28,7 @@
 #include <tuple>
 
 #include "crack_pattern.hpp"
+#include "tip_fields.hpp"
 #include "halo.hpp"
 #include "sensors.hpp"
 #include "build_info.hpp"
@@ -632,6 +633,7 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   writers_.push_back(std::make_unique<EnergyCsvWriter>(dir, sim.resumed()));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<PatternWriter>(dir));
+  if (sim.fracture().enabled()) writers_.push_back(std::make_unique<TipFieldsWriter>(dir));
   if (!sim.scene().sensors.empty())
     writers_.push_back(std::make_unique<SensorRecorder>(sim.scene(), dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));

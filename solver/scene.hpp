@@ -19,6 +19,11 @@ struct MaterialParams {
   double gamma = 150.0;     ///< surface energy per unit reference area [N/m]
   double zeta1 = 0.1;       ///< normalized dilatational damping (B.5) [-]
   double zeta2 = 0.1;       ///< normalized distortional damping (B.5) [-]
+  /// Statistical strength (docs/branching.md): 0 = every node breaks at sigma_c (the paper);
+  /// m > 0 = each node's strength is a Weibull sample of modulus m and mean sigma_c, drawn
+  /// from its reference position and strength_seed.
+  double weibull_modulus = 0.0;
+  int strength_seed = 1;    ///< seed of the per-node strengths [-]
 };
 
 /// A notch cut into the generated plate through its thickness ([notch.NAME], docs/scenes.md):

@@ -1019,8 +1019,9 @@ TEST(Executable, EveryCommandHasItsOwnHelpAndOneMeaningOfOut) {
     EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
     EXPECT_EQ(r.out.rfind("usage: brittle " + command, 0), 0u) << r.out;
     for (const std::string& other : commands)
-      if (other != command)
+      if (other != command) {
         EXPECT_FALSE(contains(r.out, "brittle " + other + " ")) << command << " help names " << other;
+      }
     for (const char* internal : {"--scene ", "--input ", "--run ", "--sweep ", "--field ", "--no-frames"})
       EXPECT_FALSE(contains(r.out, internal)) << command << " help shows " << internal;
     const std::size_t out = r.out.find("--out arg");

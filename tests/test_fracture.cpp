@@ -317,7 +317,9 @@ TEST(Straight, AFarEdgeSplitDoesNotEnterTheFit) {
   EXPECT_EQ(summary.speed_window_end, "nucleation ahead");
   EXPECT_GT(summary.crack_speed.samples, 100);
   for (const TipSample& t : sim.tip_samples())
-    if (t.t <= summary.crack_speed.t_end) EXPECT_LT(t.x, s.geometry.L - 10e-3) << t.t;
+    if (t.t <= summary.crack_speed.t_end) {
+      EXPECT_LT(t.x, s.geometry.L - 10e-3) << t.t;
+    }
   EXPECT_LT(summary.tip_x, s.geometry.L - 10e-3) << "the tip did not jump to the edge";
   EXPECT_DOUBLE_EQ(summary.max_split_x, s.geometry.L);
   EXPECT_LT(summary.crack_speed.speed, DamageParams{}.v_R);
@@ -402,6 +404,66 @@ TEST(Branching, ResultsIndependentOfThreadCount) {
   EXPECT_EQ(x[0], x[1]);
   EXPECT_EQ(v[0], v[1]);
   EXPECT_EQ(Omega[0], Omega[1]);
+}
+
+// material.weibull_modulus: each node's strength is a Weibull sample of mean sigma_c drawn from
+// its reference position and the seed (docs/branching.md): the same for a node and its
+// daughters, changed by the seed, with the distribution's mean and scatter, and a run with
+// it is the same for one and two threads.
+TEST(Strength, WeibullStrengthsFollowThePositionAndTheSeed) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 0.2e-6, 1e-3);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  {
+    Simulation sim(s, *mesh);  // m = 0: the paper's single strength
+    EXPECT_EQ(sim.fracture().strength(sim.grid(), 7), s.material.sigma_c);
+  }
+  const double m = 8;
+  s.material.weibull_modulus = m;
+  Simulation sim(s, *mesh);
+  const Grid& g = sim.grid();
+  const vtkIdType n = g.num_points();
+  double sum = 0, sum2 = 0;
+  for (vtkIdType p = 0; p < n; ++p) {
+    const double q = sim.fracture().strength(g, p) / s.material.sigma_c;
+    sum += q, sum2 += q * q;
+  }
+  const double mean = sum / n, cv = std::sqrt(sum2 / n - mean * mean) / mean;
+  // Weibull: CV = sqrt(Gamma(1 + 2/m) / Gamma(1 + 1/m)^2 - 1) = 0.149 for m = 8; the mean of
+  // n samples is within 4 standard errors of 1.
+  const double cv_exact = std::sqrt(std::tgamma(1 + 2 / m) / std::pow(std::tgamma(1 + 1 / m), 2) - 1);
+  EXPECT_NEAR(mean, 1.0, 4 * cv_exact / std::sqrt(static_cast<double>(n)));
+  EXPECT_NEAR(cv, cv_exact, 0.1 * cv_exact);
+  // A daughter (same reference position) keeps its mother's strength; another seed, others.
+  SplitCandidate c;
+  c.node = node_on_midplane(sim.grid(), 10e-3);
+  ASSERT_GE(c.node, 0);
+  const double before = sim.fracture().strength(sim.grid(), c.node);
+  const auto records = sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {c});
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_EQ(sim.fracture().strength(sim.grid(), records[0].b), before);
+  s.material.strength_seed = 2;
+  Simulation other(s, *mesh);
+  int same = 0;
+  for (vtkIdType p = 0; p < n; ++p)
+    same += other.fracture().strength(other.grid(), p) == sim.fracture().strength(g, p);
+  EXPECT_LT(same, n / 100);
+}
+
+TEST(Strength, WeibullRunIsIndependentOfThreadCount) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 12e-6);
+  s.material.weibull_modulus = 10;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  std::vector<std::vector<double>> x;
+  std::vector<long> splits;
+  for (int threads : {1, 2}) {
+    s.run.threads = threads;
+    Simulation sim(s, *mesh);
+    splits.push_back(sim.run({}).splits);
+    x.emplace_back(sim.grid().x(), sim.grid().x() + 3 * sim.grid().num_points());
+  }
+  EXPECT_GT(splits[0], 0);
+  EXPECT_EQ(splits[0], splits[1]);
+  EXPECT_EQ(x[0], x[1]);
 }
 
 // fracture.region limits where nodes break: a branching run confined to |y| <= 1 mm,

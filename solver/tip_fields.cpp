@@ -1,0 +1,230 @@
+// The fields around the running crack tips (docs/branching.md): hoop stress from the element
+// stresses (B.4), energy into crack growth per unit new area against 2 gamma (3.8), tip speed.
+#include "tip_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "error.hpp"
+#include "output.hpp"
+
+namespace brittle {
+
+StressProbe::StressProbe(std::vector<double> centroids, std::vector<double> volumes, double reach)
+    : centroids_(std::move(centroids)), volumes_(std::move(volumes)), reach_(reach) {
+  BRITTLE_CHECK(reach_ > 0 && centroids_.size() == 2 * volumes_.size(),
+                "StressProbe: reach must be > 0 and centroids two per cell");
+  for (std::size_t c = 0; c < volumes_.size(); ++c)
+    buckets_[key(static_cast<long long>(std::floor(centroids_[2 * c] / reach_)),
+                 static_cast<long long>(std::floor(centroids_[2 * c + 1] / reach_)))]
+        .push_back(static_cast<int>(c));
+}
+
+bool StressProbe::stress_at(const double* stress, double x, double y, double out[3]) const {
+  const long long i0 = static_cast<long long>(std::floor(x / reach_));
+  const long long j0 = static_cast<long long>(std::floor(y / reach_));
+  double sum[3] = {0, 0, 0}, v = 0;
+  for (long long i = i0 - 1; i <= i0 + 1; ++i)
+    for (long long j = j0 - 1; j <= j0 + 1; ++j) {
+      const auto found = buckets_.find(key(i, j));
+      if (found == buckets_.end()) continue;
+      for (int c : found->second) {
+        const double dx = centroids_[2 * c] - x, dy = centroids_[2 * c + 1] - y;
+        if (dx * dx + dy * dy > reach_ * reach_) continue;
+        const double* s = stress + 6 * c;
+        sum[0] += volumes_[c] * s[0], sum[1] += volumes_[c] * s[1], sum[2] += volumes_[c] * s[3];
+        v += volumes_[c];
+      }
+    }
+  if (v <= 0) return false;
+  for (int k = 0; k < 3; ++k) out[k] = sum[k] / v;
+  return true;
+}
+
+HoopProfile hoop_profile(const StressProbe& probe, const double* stress, double x, double y,
+                         double direction_deg, double radius, int samples) {
+  constexpr double deg = std::numbers::pi / 180.0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  HoopProfile p;
+  p.theta_max_deg = p.sigma_max = p.sigma_ahead = nan;
+  const double dx = std::cos(direction_deg * deg), dy = std::sin(direction_deg * deg);
+  for (int k = 0; k < samples; ++k) {
+    const double theta = -180.0 + 360.0 * (k + 1) / samples;  // (-180, 180]
+    const double c = std::cos(theta * deg), s = std::sin(theta * deg);
+    // e_r = c d + s n, e_theta = -s d + c n with n = (-dy, dx)
+    const double er[2] = {c * dx - s * dy, c * dy + s * dx};
+    const double et[2] = {-s * dx - c * dy, -s * dy + c * dx};
+    double t[3];
+    double sigma = nan;
+    if (probe.stress_at(stress, x + radius * er[0], y + radius * er[1], t))
+      sigma = et[0] * et[0] * t[0] + et[1] * et[1] * t[1] + 2 * et[0] * et[1] * t[2];
+    p.theta_deg.push_back(theta);
+    p.sigma.push_back(sigma);
+    if (std::abs(theta) < 1e-9) p.sigma_ahead = sigma;
+    // The front half; on a tie the angle nearest the direction (a symmetric field gives 0 or
+    // the lobe at negative theta, which comes first).
+    if (std::abs(theta) <= 90.0 + 1e-9 && std::isfinite(sigma) &&
+        (!std::isfinite(p.sigma_max) || sigma > p.sigma_max ||
+         (sigma == p.sigma_max && std::abs(theta) < std::abs(p.theta_max_deg))))
+      p.sigma_max = sigma, p.theta_max_deg = theta;
+  }
+  return p;
+}
+
+double tip_direction_deg(const TipTrack& tip, double behind) {
+  if (!tip.path.empty()) {
+    const TipSample& head = tip.path.back();
+    for (std::size_t i = tip.path.size(); i-- > 0;) {
+      const double dx = head.x - tip.path[i].x, dy = head.y - tip.path[i].y;
+      if (std::hypot(dx, dy) >= behind) return std::atan2(dy, dx) * 180.0 / std::numbers::pi;
+    }
+    const double dx = head.x - tip.x_start, dy = head.y - tip.y_start;
+    if (std::hypot(dx, dy) >= behind) return std::atan2(dy, dx) * 180.0 / std::numbers::pi;
+  }
+  return std::isfinite(tip.start_angle_deg) ? tip.start_angle_deg : 0.0;
+}
+
+namespace {
+
+constexpr char kHeader[] =
+    "time,tip,x,y,direction_deg,speed,hoop_theta_max_deg,hoop_max_over_sigmac,"
+    "hoop_ahead_over_sigmac,G_new_area,G_tip_advance,two_gamma,fracture_energy,crack_area,"
+    "crack_length,energy_row\n";
+constexpr char kHoopHeader[] = "time,tip,theta_deg,sigma_theta_theta_over_sigmac,energy_row\n";
+
+/// The rows of `path` after its header whose last column, the energy row, is below `rows` (a
+/// resumed run keeps what was written for the rows before its checkpoint).
+std::string rows_before(const std::string& path, long rows) {
+  std::ifstream in(path);
+  std::string line, kept;
+  if (!std::getline(in, line)) return kept;
+  while (std::getline(in, line)) {
+    const std::size_t comma = line.rfind(',');
+    if (comma == std::string::npos || std::strtol(line.c_str() + comma + 1, nullptr, 10) >= rows)
+      break;
+    kept += line + "\n";
+  }
+  return kept;
+}
+
+/// Path length the tip covered over the last `window` before t, divided by the window: from its
+/// last sample at or before t - window (NaN while the tip is younger than the window). Its samples come in bursts
+/// of splits, too few for a slope over a short window.
+double recent_speed(const TipTrack& tip, double t, double window) {
+  if (tip.arc.empty()) return 0;
+  double arc_then = 0, t_then = tip.t_start;
+  for (std::size_t i = tip.path.size(); i-- > 0;)
+    if (tip.path[i].t <= t - window) {
+      arc_then = tip.arc[i], t_then = tip.path[i].t;
+      break;
+    }
+  if (!(t_then <= t - window) && !(tip.path.front().t <= t - window))  // younger than the window
+    return std::numeric_limits<double>::quiet_NaN();
+  return (tip.arc.back() - arc_then) / window;
+}
+
+}  // namespace
+
+void TipFieldsWriter::ensure_probe(const Simulation& sim) {
+  if (probe_) return;
+  const Grid& grid = sim.grid();
+  const double* X = grid.X();
+  const vtkIdType* cells = grid.cells();
+  std::vector<double> centroids(2 * static_cast<std::size_t>(grid.num_cells()));
+  double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+    for (int k = 0; k < 4; ++k) {
+      const double* p = X + 3 * cells[4 * e + k];
+      centroids[2 * e] += 0.25 * p[0], centroids[2 * e + 1] += 0.25 * p[1];
+      z_min = std::min(z_min, p[2]), z_max = std::max(z_max, p[2]);
+    }
+  h_ = sim.fronts().join() / 4.0;  // the typical element size (Simulation: join = 4 h)
+  thickness_ = z_max > z_min ? z_max - z_min : 1.0;
+  probe_ = std::make_unique<StressProbe>(std::move(centroids), sim.elements().V0,
+                                         kReachElements * h_);
+}
+
+void TipFieldsWriter::on_start(const Simulation& sim) { ensure_probe(sim); }
+
+void TipFieldsWriter::on_resume(const Simulation& sim) {
+  const long rows = sim.progress().energy_rows;
+  rows_ = rows_before(directory_ + "/tip_fields.csv", rows);
+  hoop_rows_ = rows_before(directory_ + "/tip_hoop.csv", rows);
+  // The energy window goes on from the rows kept: their raw columns (written to round-trip).
+  std::istringstream in(rows_);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) v.push_back(std::strtod(c.c_str(), nullptr));
+    if (v.size() == 16 && (history_.empty() || history_.back().t < v[0]))
+      history_.push_back({v[0], v[12], v[13], v[14]});
+  }
+}
+
+void TipFieldsWriter::on_energy(const Simulation& sim, const Energies& e) {
+  ensure_probe(sim);
+  const CrackFronts& fronts = sim.fronts();
+  const double t = e.time;
+  std::vector<int> running;
+  for (std::size_t i = 0; i < fronts.tips().size(); ++i) {
+    const TipTrack& tip = fronts.tips()[i];
+    if (tip.active && !tip.path.empty() && tip.path.back().t >= t - kRunningWindow)
+      running.push_back(static_cast<int>(i));
+  }
+  if (running.empty()) return;  // (the window below spans the rows written: a resume's too)
+  // Energy into crack growth: what the links hold and have dissipated (2.7)-(3.3); crack area
+  // made (one face: A_c counts both); crack length: every tip's path length.
+  double length = 0;
+  for (const TipTrack& tip : fronts.tips())
+    if (!tip.arc.empty()) length += tip.arc.back();
+  history_.push_back({t, e.cohesive_dissipated + e.cohesive_stored,
+                      0.5 * sim.fracture().crack_area(), length});
+  const Flux& now = history_.back();
+  std::size_t back = history_.size() - 1;
+  while (back > 0 && history_[back - 1].t >= t - kFluxWindow * (1 + 1e-9)) --back;
+  if (back > 0) --back;  // the row at or just before the window's start
+  const Flux& then = history_[back];
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double dE = now.fracture_energy - then.fracture_energy;
+  const double dA = now.crack_area - then.crack_area;
+  const double dL = now.tip_length - then.tip_length;
+  const double G_area = dA > 0 ? dE / dA : nan;
+  const double G_advance = dL > 0 ? dE / (thickness_ * dL) : nan;
+  const double sigma_c = sim.scene().material.sigma_c;
+  const double two_gamma = 2.0 * sim.scene().material.gamma;
+  const long energy_row = sim.progress().energy_rows;
+
+  std::ostringstream row, hoop;
+  hoop << std::setprecision(6);
+  for (int id : running) {
+    const TipTrack& tip = fronts.tips()[static_cast<std::size_t>(id)];
+    const TipSample head = fronts.head(id);
+    const double direction = tip_direction_deg(tip, sim.fronts().join());
+    const double speed = recent_speed(tip, t, kSpeedWindow);
+    const HoopProfile p = hoop_profile(*probe_, sim.grid().stress(), head.x, head.y, direction,
+                                       kRadiusElements * h_, kSamples);
+    row << std::setprecision(17) << t << std::setprecision(10) << ',' << id << ',' << head.x << ',' << head.y << ','
+        << direction << ',' << speed << ',' << p.theta_max_deg << ',' << p.sigma_max / sigma_c
+        << ',' << p.sigma_ahead / sigma_c << ',' << G_area << ',' << G_advance << ','
+        << two_gamma << ',' << std::setprecision(17) << now.fracture_energy << ','
+        << now.crack_area << ',' << now.tip_length << ',' << energy_row << '\n';
+    for (std::size_t k = 0; k < p.theta_deg.size(); ++k)
+      hoop << t << ',' << id << ',' << p.theta_deg[k] << ',' << p.sigma[k] / sigma_c << ','
+           << energy_row << '\n';
+  }
+  rows_ += row.str();
+  hoop_rows_ += hoop.str();
+}
+
+void TipFieldsWriter::on_finish(const Simulation&, const RunSummary&) {
+  write_file_atomically(directory_ + "/tip_fields.csv", kHeader + rows_);
+  write_file_atomically(directory_ + "/tip_hoop.csv", kHoopHeader + hoop_rows_);
+}
+
+}  // namespace brittle
