@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
+#include <map>
 #include <sstream>
 
 #include "chart.hpp"
@@ -155,6 +157,86 @@ int chart_command(const std::vector<std::string>& args) {
   return 0;
 }
 
+namespace {
+
+/// The columns of a run's tip_fields.csv by header name (empty when the run has none).
+std::map<std::string, std::vector<double>> read_tip_fields(const std::string& dir) {
+  std::map<std::string, std::vector<double>> columns;
+  const std::string csv = (fs::path(dir) / "tip_fields.csv").string();
+  std::ifstream in(csv);
+  std::string line;
+  if (!in || !std::getline(in, line)) return columns;
+  const std::vector<std::string> names = list_words(line);
+  for (int row = 2; std::getline(in, line); ++row) {
+    const std::vector<std::string> cells = list_words(line);
+    BRITTLE_CHECK(cells.size() == names.size(), "brittle tips: '", csv, "', line ", row,
+                  ": expected ", names.size(), " columns");
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const auto v = parse_number(cells[k]);
+      columns[names[k]].push_back(v ? *v : std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+  return columns;
+}
+
+/// tip_fields.png: the angle of the hoop-stress maximum of every running tip, and
+/// energy_flux.png: G per unit tip advance and per unit new crack area over 2 gamma
+/// (docs/branching.md), one colour per run.
+void write_tip_field_charts(const std::string& out, const std::vector<std::string>& runs) {
+  std::vector<render::ChartSeries> angles, fluxes;
+  double t_max = 1, g_max = 3;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto eq = runs[i].find('=');
+    const std::string dir = runs[i].substr(0, eq);
+    const std::string label =
+        eq == std::string::npos ? fs::path(dir).filename().string() : runs[i].substr(eq + 1);
+    auto c = read_tip_fields(dir);
+    if (c["time"].empty()) continue;
+    const auto color = kColors[i % kColors.size()];
+    render::ChartSeries angle{label, {}, {}, render::ChartSeries::Style::points, color, 0};
+    render::ChartSeries tip{label + ": G per tip advance", {}, {},
+                            render::ChartSeries::Style::line, color, 0};
+    render::ChartSeries area{label + ": G per new area", {}, {},
+                             render::ChartSeries::Style::dashed, color, 0};
+    for (std::size_t r = 0; r < c["time"].size(); ++r) {
+      const double t = c["time"][r] * 1e6, two_gamma = c["two_gamma"][r];
+      t_max = std::max(t_max, t);
+      if (std::isfinite(c["hoop_theta_max_deg"][r]))
+        angle.x.push_back(t), angle.y.push_back(c["hoop_theta_max_deg"][r]);
+      if (r > 0 && c["time"][r] == c["time"][r - 1]) continue;  // G: once per energy row
+      for (auto [series, key] : {std::pair{&tip, "G_tip_advance"}, {&area, "G_new_area"}})
+        if (std::isfinite(c[key][r])) {
+          series->x.push_back(t), series->y.push_back(c[key][r] / two_gamma);
+          g_max = std::max(g_max, std::min(c[key][r] / two_gamma, 10.0));
+        }
+    }
+    angles.push_back(std::move(angle));
+    fluxes.push_back(std::move(tip));
+    fluxes.push_back(std::move(area));
+  }
+  if (angles.empty()) return;
+  for (double level : {1.0, 2.0})
+    fluxes.push_back({level == 1 ? "2 gamma" : "2 x 2 gamma", {0, t_max}, {level, level},
+                      render::ChartSeries::Style::dashed, {0, 0, 0}, 0});
+  render::ChartAxes a;
+  a.title = "Angle of the hoop-stress maximum at 3 element sizes from each running tip";
+  a.x_title = "t  [us]";
+  a.y_title = "theta_max  [deg from the tip's direction]";
+  a.x_min = 0, a.x_max = t_max, a.y_min = -95, a.y_max = 95;
+  a.legend = render::ChartAxes::Corner::bottom_left;
+  render::write_chart_png(out + "/tip_fields.png", a, angles);
+  render::ChartAxes f;
+  f.title = "Energy into crack growth over 2 gamma (1 us windows)";
+  f.x_title = "t  [us]";
+  f.y_title = "G / (2 gamma)";
+  f.x_min = 0, f.x_max = t_max, f.y_min = 0, f.y_max = 1.1 * g_max;
+  f.legend = render::ChartAxes::Corner::top_left;
+  render::write_chart_png(out + "/energy_flux.png", f, fluxes);
+  std::printf("wrote %s/tip_fields.png and %s/energy_flux.png\n", out.c_str(), out.c_str());
+}
+
+}  // namespace
+
 int tips_command(const std::vector<std::string>& args) {
   std::vector<std::string> runs;
   std::string out, title = "Speed of the leading crack tip";
@@ -172,7 +254,10 @@ int tips_command(const std::vector<std::string>& args) {
                        "usage: brittle tips RUN_DIR[=LABEL] ... --out DIR [--title T] "
                        "[--rayleigh V]",
                        "Draws the leading crack tip's speed against time from each run's "
-                       "crack_tip.csv (a 1 us moving average): DIR/tip_speed.png.",
+                       "crack_tip.csv (a 1 us moving average): DIR/tip_speed.png; from "
+                       "tip_fields.csv, the angle of the hoop-stress maximum around every "
+                       "running tip (DIR/tip_fields.png) and the energy into crack growth "
+                       "over 2 gamma (DIR/energy_flux.png; docs/branching.md).",
                        opts);
     return 0;
   }
@@ -237,6 +322,7 @@ int tips_command(const std::vector<std::string>& args) {
   fs::create_directories(out);
   render::write_chart_png(out + "/tip_speed.png", axes, lines);
   std::printf("wrote %s/tip_speed.png\n", out.c_str());
+  write_tip_field_charts(out, runs);
   return 0;
 }
 
