@@ -118,6 +118,10 @@ int analyze_command(const std::vector<std::string>& args) {
   const double join = number_at(tracker, "join", file);
   const double separation = number_at(tracker, "separation", file);
   const double T = number_at(tracker, "thickness", file);
+  // v_R for the speed notes; a pattern.json from before it was kept has none: no notes
+  const double v_R = tracker.contains("rayleigh_speed") && tracker["rayleigh_speed"].is_number()
+                         ? tracker["rayleigh_speed"].get<double>()
+                         : std::numeric_limits<double>::quiet_NaN();
   if (min_length < 0) min_length = number_at(j, "min_branch_length", file);
   BRITTLE_CHECK(std::isfinite(min_length), "--min-branch-length ", min_length,
                 " is out of range (expected >= 0 m)");
@@ -136,7 +140,7 @@ int analyze_command(const std::vector<std::string>& args) {
   }
   const std::vector<CrackEvent> events = read_events_csv(dir + "/events.csv");
   const CrackFronts fronts = fronts_from_events(events, join, separation, seeds);
-  const CrackPattern p = crack_pattern(fronts, events, tips, T, min_length);
+  const CrackPattern p = crack_pattern(fronts, events, tips, T, min_length, v_R);
   write_pattern(dir, p);
   draw_charts(dir, p);
   std::printf("%zu branches (%d spurs shorter than %.3g m), %zu branching points, %zu "
@@ -144,10 +148,13 @@ int analyze_command(const std::vector<std::string>& args) {
               "and charts\n",
               p.branches.size(), p.spurs, min_length, p.branchings.size(), p.nucleations.size(),
               p.splits, p.link_failures, dir.c_str());
-  for (const Branch& b : p.branches)
-    std::printf("  tip %d (%s): from (%.2f, %.2f) mm at %.2f us, %.2f mm at %.1f deg, %.0f m/s\n",
+  for (const Branch& b : p.branches) {
+    std::printf("  tip %d (%s): from (%.2f, %.2f) mm at %.2f us, %.2f mm at %.1f deg, %.0f m/s "
+                "along the path, %.0f m/s away from its start\n",
                 b.tip, b.origin.c_str(), 1e3 * b.x_start, 1e3 * b.y_start, 1e6 * b.t_start,
-                1e3 * b.length, b.angle_deg, b.speed);
+                1e3 * b.length, b.angle_deg, b.speed, b.chord_speed);
+    if (!b.speed_note.empty()) std::printf("    note: %s\n", b.speed_note.c_str());
+  }
   return 0;
 }
 

@@ -82,9 +82,28 @@ EnergyDistribution energy_distribution(const std::vector<CrackEvent>& events) {
   return d;
 }
 
+namespace {
+
+/// Least-squares slope of the distance of a track's samples from its start against time, over
+/// the samples from its start on; NaN with fewer than 3.
+double chord_speed(const TipTrack& t) {
+  double n = 0, st = 0, sd = 0, stt = 0, std_ = 0;
+  for (const TipSample& s : t.path) {
+    if (s.t < t.t_start) continue;
+    const double d = std::hypot(s.x - t.x_start, s.y - t.y_start);
+    n += 1, st += s.t, sd += d, stt += s.t * s.t, std_ += s.t * d;
+  }
+  const double den = n * stt - st * st;
+  return n >= 3 && den > 0 ? (n * std_ - st * sd) / den : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
 CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEvent>& events,
-                           const std::vector<TipSample>& tips, double T, double min_length) {
+                           const std::vector<TipSample>& tips, double T, double min_length,
+                           double rayleigh_speed) {
   CrackPattern p;
+  p.rayleigh_speed = rayleigh_speed;
   p.min_length = min_length;
   p.join = fronts.join();
   p.separation = fronts.separation();
@@ -108,6 +127,22 @@ CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEve
     b.length = length;
     b.angle_deg = kDegrees * std::atan2(head.y - t.y_start, head.x - t.x_start);
     b.speed = fronts.speed(t.id).speed;
+    b.chord_speed = chord_speed(t);
+    // No crack in the model outruns v_R (docs/crack_fronts.md): a faster track is not one tip.
+    if (b.speed > rayleigh_speed) {
+      std::ostringstream note;
+      note << std::lround(b.speed) << " m/s along the path is above v_R = "
+           << std::lround(rayleigh_speed) << " m/s: ";
+      if (b.chord_speed <= rayleigh_speed)
+        note << "the track zigzags through a failure zone wider than the tracker's join (its "
+                "head moves away from the start at "
+             << std::lround(b.chord_speed) << " m/s)";
+      else
+        note << "its head also moves away from its start faster than v_R ("
+             << std::lround(b.chord_speed)
+             << " m/s): a failure front through material already near sigma_c, not one crack tip";
+      b.speed_note = note.str();
+    }
     p.branches.push_back(b);
   }
   p.branchings = fronts.branchings();
@@ -181,12 +216,14 @@ std::vector<CrackEvent> read_events_csv(const std::string& path) {
 
 void write_pattern(const std::string& directory, const CrackPattern& p) {
   std::ostringstream csv;
-  csv << "tip,origin,parent,t_start,x_start,y_start,t_end,x_end,y_end,length,angle_deg,speed\n"
+  csv << "tip,origin,parent,t_start,x_start,y_start,t_end,x_end,y_end,length,angle_deg,speed,"
+         "chord_speed,speed_above_rayleigh\n"
       << std::setprecision(12);
   for (const Branch& b : p.branches)
     csv << b.tip << ',' << b.origin << ',' << b.parent << ',' << b.t_start << ',' << b.x_start << ','
         << b.y_start << ',' << b.t_end << ',' << b.x_end << ',' << b.y_end << ',' << b.length << ','
-        << b.angle_deg << ',' << b.speed << '\n';
+        << b.angle_deg << ',' << b.speed << ',' << b.chord_speed << ','
+        << (b.speed_note.empty() ? 0 : 1) << '\n';
   write_file_atomically(directory + "/branches.csv", csv.str());
 
   nlohmann::ordered_json j;
@@ -201,7 +238,9 @@ void write_pattern(const std::string& directory, const CrackPattern& p) {
                          {"head", {number(b.t_end), number(b.x_end), number(b.y_end)}},
                          {"length", number(b.length)},
                          {"angle_deg", number(b.angle_deg)},
-                         {"speed", number(b.speed)}});
+                         {"speed", number(b.speed)},
+                         {"chord_speed", number(b.chord_speed)},
+                         {"speed_note", b.speed_note}});
   j["splits"] = p.splits;
   j["link_failures"] = p.link_failures;
   j["crack_area"] = number(p.split_area);
@@ -225,7 +264,8 @@ void write_pattern(const std::string& directory, const CrackPattern& p) {
         {number(a.t), number(a.advance), number(a.area), number(a.effective)});
   j["tracker"] = {{"join", number(p.join)},
                   {"separation", number(p.separation)},
-                  {"thickness", number(p.thickness)}};
+                  {"thickness", number(p.thickness)},
+                  {"rayleigh_speed", number(p.rayleigh_speed)}};
   j["seeds"] = nlohmann::ordered_json::array();
   for (const FrontSeed& s : p.seeds)
     j["seeds"].push_back({number(s.x), number(s.y), number(s.angle_deg)});
@@ -237,8 +277,10 @@ void PatternWriter::on_finish(const Simulation& sim, const RunSummary&) {
   const double min_length = sim.scene().fracture.min_branch_length > 0
                                 ? sim.scene().fracture.min_branch_length
                                 : sim.fronts().join();
+  const ElasticConstants c = ElasticConstants::from(sim.scene().material);
   write_pattern(directory_, crack_pattern(sim.fronts(), sim.events(), sim.tip_samples(),
-                                          sim.scene().geometry.T, min_length));
+                                          sim.scene().geometry.T, min_length,
+                                          rayleigh_speed(c.c_p, c.c_s)));
 }
 
 }  // namespace brittle

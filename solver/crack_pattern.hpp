@@ -28,6 +28,12 @@ struct Branch {
   double length = 0;        ///< path length [m]
   double angle_deg = 0;     ///< direction of the chord start -> head to the x axis [deg]
   double speed = 0;         ///< least-squares speed along the path [m/s] (NaN if < 3 samples)
+  /// least-squares slope of the head's distance from the start against time [m/s]: the speed
+  /// a reader measures on the frames; below `speed` when the path zigzags (NaN if < 3 samples)
+  double chord_speed = 0;
+  /// empty, or why `speed` is not a crack tip's: it exceeds the Rayleigh speed, which no
+  /// crack in the model outruns (docs/crack_pattern.md, "Speeds")
+  std::string speed_note;
 };
 
 /// Crack area made up to a tip sample against how far the leading tip has come.
@@ -58,6 +64,7 @@ struct CrackPattern {
   double min_length = 0;        ///< branches shorter than this are spurs, not branches [m]
   double join = 0, separation = 0;  ///< the tracker's distances (docs/crack_fronts.md)
   double thickness = 0;         ///< T of the plate [m]
+  double rayleigh_speed = 0;    ///< v_R of the material [m/s] (NaN: not known, no speed notes)
   std::vector<FrontSeed> seeds;
   std::vector<Branch> branches;
   int spurs = 0;                ///< tracks shorter than min_length
@@ -73,7 +80,8 @@ struct CrackPattern {
 /// The pattern of a run: `fronts` built from the splits of `events` (or the run's own), the
 /// area samples at the `tips` sample times for a plate of thickness T.
 CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEvent>& events,
-                           const std::vector<TipSample>& tips, double T, double min_length);
+                           const std::vector<TipSample>& tips, double T, double min_length,
+                           double rayleigh_speed);
 
 /// Rebuilds the crack fronts (docs/crack_fronts.md) from the seeds and the splits of an event
 /// catalogue: what the run tracked, for `brittle analyze`.

@@ -142,6 +142,14 @@ bool ConnectedCracks::on_split(double t, double x, double y) {
   return false;
 }
 
+ConnectedCracks::Reached ConnectedCracks::farthest() const {
+  // The open reach series of the seeds' crack ends at its farthest split: a join starts a new
+  // series at the farthest member, and growth only appends a larger distance.
+  const Reach& r = reaches_[reach_[find(0)]];
+  return {x_[r.point.back()], y_[r.point.back()], std::hypot(x_[r.point.back()] - x_[0],
+                                                               y_[r.point.back()] - y_[0])};
+}
+
 ConnectedCracks::FastGrowth ConnectedCracks::first_faster_than(double limit, double distance,
                                                               double min_dt) const {
   FastGrowth first;

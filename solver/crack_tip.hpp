@@ -62,6 +62,13 @@ class ConnectedCracks {
   /// The seeds' crack: its point of largest x (a seed before any split reaches it).
   double tip_x() const { return x_[best_[find(0)]]; }
   double tip_y() const { return y_[best_[find(0)]]; }
+  /// The seeds' crack: its split farthest from the first seed (the notch tip), and that
+  /// distance, the crack's reach. It follows the crack a reader sees in the frames however
+  /// it kinks or branches; a crack nucleated elsewhere moves it only once the two join.
+  struct Reached {
+    double x = 0, y = 0, reach = 0;
+  };
+  Reached farthest() const;
   struct Start {
     double t = 0, x = 0, y = 0;
   };

@@ -417,15 +417,14 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       for (Observer* o : observers) o->on_energy(*this, e);
       ++p.energy_rows;
       // The tip is on the crack grown from a notch: a split not connected to it (a crack
-      // nucleated ahead) does not move it (docs/crack_fronts.md, "The tip").
-      const int lead = fronts_.leading();
-      const TipTrack& track = fronts_.tips()[lead];
-      const TipSample head = fronts_.head(lead);
-      TipSample sample{time_, head.x, head.y, fracture_.splits(),
-                       track.length_at_start + (track.arc.empty() ? 0.0 : track.arc.back())};
-      if (scene_.geometry.notches.empty()) {  // the paper's plate: x of the notch's crack (SPEC 5)
-        sample.x = sample.s = cracks_.tip_x();
-        sample.y = cracks_.tip_y();
+      // nucleated ahead) does not move it (docs/crack_fronts.md, "The tip"). On the paper's
+      // plate it is that crack's largest x (SPEC 5); with [notch.NAME] sections its split
+      // farthest from the notch tip, s the distance.
+      TipSample sample{time_, cracks_.tip_x(), cracks_.tip_y(), fracture_.splits(),
+                       cracks_.tip_x()};
+      if (!scene_.geometry.notches.empty()) {
+        const ConnectedCracks::Reached far = cracks_.farthest();
+        sample.x = far.x, sample.y = far.y, sample.s = far.reach;
       }
       sample.max_split_x = fracture_.splits() > 0 ? fracture_.tip_x() : sample.x;
       sample.nucleations = static_cast<long>(cracks_.nucleations().size());

@@ -291,6 +291,40 @@ TEST(CrackFronts, SameStreamSameTips) {
   }
 }
 
+// The run's tip with [notch.NAME] sections (docs/crack_fronts.md, "The tip"): the split of the
+// notch's connected crack farthest from the notch tip. It follows a crack that zigzags through
+// a band wider than the join (where the tracker's tips lose it), is not moved by a crack
+// nucleated ahead until the two join, and follows a kinked crack along its arm.
+TEST(ConnectedCracks, FarthestFollowsTheNotchCrackThroughABandAndAJoin) {
+  ConnectedCracks cracks(1e-3);
+  cracks.add_seed(50e-3, 0.0);
+  double t = 0;
+  for (int k = 1; k <= 40; ++k)  // to x = 60 mm, y zigzagging by +-0.3 mm
+    cracks.on_split(t += 1e-7, 50e-3 + 0.25e-3 * k, (k % 2 ? 0.3e-3 : -0.3e-3));
+  ConnectedCracks::Reached far = cracks.farthest();
+  EXPECT_DOUBLE_EQ(far.x, 60e-3);
+  EXPECT_DOUBLE_EQ(far.y, -0.3e-3);
+  EXPECT_NEAR(far.reach, std::hypot(10e-3, 0.3e-3), 1e-15);
+  EXPECT_TRUE(cracks.on_split(t += 1e-7, 70e-3, 0.0)) << "10 mm ahead: a crack of its own";
+  EXPECT_TRUE(cracks.on_split(t += 1e-7, 40e-3, 5e-3)) << "behind and aside: a crack of its own";
+  EXPECT_DOUBLE_EQ(cracks.farthest().x, 60e-3) << "not joined yet";
+  for (int k = 1; k <= 39; ++k) cracks.on_split(t += 1e-7, 60e-3 + 0.25e-3 * k, 0.0);
+  far = cracks.farthest();
+  EXPECT_DOUBLE_EQ(far.x, 70e-3) << "joined: the crack nucleated ahead is part of the notch's";
+  EXPECT_NEAR(far.reach, 20e-3, 1e-15);
+
+  ConnectedCracks kinked(1e-3);
+  kinked.add_seed(0.0, 0.0);
+  for (int k = 1; k <= 20; ++k) kinked.on_split(1e-7 * k, 0.25e-3 * k, 0.0);  // 5 mm along x
+  const double c = std::cos(pi / 3), s = std::sin(pi / 3);
+  for (int k = 1; k <= 40; ++k)  // then 10 mm at 60 degrees
+    kinked.on_split(1e-7 * (20 + k), 5e-3 + 0.25e-3 * k * c, 0.25e-3 * k * s);
+  far = kinked.farthest();
+  EXPECT_NEAR(far.x, 5e-3 + 10e-3 * c, 1e-15);
+  EXPECT_NEAR(far.y, 10e-3 * s, 1e-15);
+  EXPECT_GT(far.reach, 13e-3);
+}
+
 TEST(CrackFronts, RejectsBadInput) {
   EXPECT_THROW(CrackFronts(0, 1), Error);
   EXPECT_THROW(CrackFronts(2, 1), Error);

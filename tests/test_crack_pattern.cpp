@@ -55,12 +55,22 @@ TEST(CrackPattern, StraightCrackIsOneBranchOfArea2LT) {
   const double h = scene.mesh.size;
   const CrackFronts fronts = fronts_from_events(events, 4 * h, 8 * h, {{g.notch_depth, 0.0, 0.0}});
   const CrackPattern p =
-      crack_pattern(fronts, events, tip_samples(events, g.notch_depth), g.T, 4 * h);
+      crack_pattern(fronts, events, tip_samples(events, g.notch_depth), g.T, 4 * h, 1200.0);
   ASSERT_EQ(p.branches.size(), 1u);
   EXPECT_EQ(p.branches[0].origin, "notch");
   EXPECT_NEAR(p.branches[0].length, g.L - g.notch_depth, 1e-9);
   EXPECT_NEAR(p.branches[0].angle_deg, 0.0, 1e-9);
   EXPECT_NEAR(p.branches[0].speed, 1000.0, 1e-6);
+  EXPECT_NEAR(p.branches[0].chord_speed, 1000.0, 1e-6);
+  EXPECT_TRUE(p.branches[0].speed_note.empty()) << "1000 m/s is below the v_R = 1200 m/s given";
+  // The same track in a material whose v_R is 906 m/s cannot be one crack tip: it is flagged.
+  const CrackPattern slow =
+      crack_pattern(fronts, events, tip_samples(events, g.notch_depth), g.T, 4 * h, 906.0);
+  ASSERT_EQ(slow.branches.size(), 1u);
+  EXPECT_NE(slow.branches[0].speed_note.find("above v_R = 906 m/s"), std::string::npos)
+      << slow.branches[0].speed_note;
+  EXPECT_NE(slow.branches[0].speed_note.find("not one crack tip"), std::string::npos)
+      << "its head moves away from the start at 1000 m/s too: " << slow.branches[0].speed_note;
   EXPECT_TRUE(p.branchings.empty());
   EXPECT_EQ(p.splits, static_cast<long>(plane.size()));
   const double expected = 2 * (g.L - g.notch_depth) * g.T;
@@ -91,7 +101,7 @@ TEST(CrackPattern, YShapedCrackHasThreeBranchesAndItsBranchingPoint) {
   split(t += h / v, 25e-3, 6e-3);
   split(t += h / v, 25e-3 + h, 6e-3);
   const CrackFronts fronts = fronts_from_events(events, 4 * h, 8 * h, {{4e-3, 0.0, 0.0}});
-  const CrackPattern p = crack_pattern(fronts, events, {}, T, 4 * h);
+  const CrackPattern p = crack_pattern(fronts, events, {}, T, 4 * h, 1200.0);
   EXPECT_EQ(p.spurs, 1);
   ASSERT_EQ(p.nucleations.size(), 1u);
   ASSERT_EQ(p.branches.size(), 3u) << "the stem and two arms";
