@@ -69,11 +69,6 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
   return d;
 }
 
-Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e) {
-  return edge_matrix(grid.x(), grid.cells() + 4 * e) *
-         Eigen::Map<const RowMat3>(elements.Dm_inv.data() + 9 * e);
-}
-
 void lump_masses(Grid& grid, const ElementData& elements, double rho0) {
   double* mass = grid.mass();
   std::fill(mass, mass + grid.num_points(), 0.0);

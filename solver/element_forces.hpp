@@ -57,8 +57,6 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& elem
                                        const ElasticConstants& c, vtkIdType e,
                                        const double* P_v_old);
 
-/// F = Ds Dm^-1 of element e at the grid's current positions (outside the step loop).
-Mat3 deformation_gradient(const Grid& grid, const ElementData& elements, vtkIdType e);
 
 /// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
 /// brittle::Error for a cell with non-positive reference volume.

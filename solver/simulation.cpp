@@ -267,6 +267,10 @@ Energies Simulation::energies() const {
   const double *v = grid_.v(), *m = grid_.mass(), *Omega = grid_.damage();
   const char* owned_node = halo_ ? halo_->owned().data() : nullptr;
   const std::uint8_t* owned_cell = halo_ ? halo_->owned_cells().data() : nullptr;
+  // The strain energy from the J (volume / V0) and alpha1 the element loop left at these
+  // positions (the step ends with a force computation; checkpoints keep both), not from F.
+  const double *volume = assembler_.volumes(), *alpha1 = assembler_.alpha1();
+  const double* inv_V0 = elements_.inv_V0.data();
   std::vector<ExactSum> sums(7);
   ExactSum &kinetic = sums[0], &elastic = sums[1];
 #pragma omp parallel
@@ -280,7 +284,7 @@ Energies Simulation::energies() const {
 #pragma omp for schedule(static) nowait
     for (vtkIdType c = 0; c < ne; ++c)
       if (!owned_cell || owned_cell[c])
-        w += elements_.V0[c] * strain_energy_density(deformation_gradient(grid_, elements_, c),
+        w += elements_.V0[c] * strain_energy_density(volume[c] * inv_V0[c], alpha1[c],
                                                      constants_.K, constants_.mu, Omega[c]);
 #pragma omp critical
     {

@@ -47,6 +47,29 @@ TEST(Material, StressFreeReference) {
   EXPECT_EQ(strain_energy_density(Mat3::Identity(), c.K, c.mu, 0.0), 0.0);
 }
 
+// (J - 1) - ln J from its series near J = 1 (|J - 1| < 1e-2) and from the log elsewhere, against
+// the same in long double (64-bit mantissa): within 4 ulp of the result on the series, where the
+// double formula x - log(1 + x) loses about 2 ulp / |x| to cancellation (2e-10 relative at
+// x = 1e-6); on the log, within that cancellation bound; and 0 at J = 1.
+TEST(Material, VolumetricEnergyIsAccurateNearJ1) {
+  EXPECT_EQ(volumetric_energy(1.0), 0.0);
+  double worst = 0;
+  for (double x : {1e-12, 3e-9, 1e-6, 2.5e-4, 1e-3, 4e-3, 9.99e-3, 1.001e-2, 0.1, 0.5}) {
+    for (double J : {1.0 + x, 1.0 - x}) {
+      const long double xl = static_cast<long double>(J) - 1.0L;  // J - 1 is exact in double
+      const long double exact = xl * xl *
+          (0.5L - xl / 3 + xl * xl / 4 - xl * xl * xl / 5 + xl * xl * xl * xl / 6 -
+           xl * xl * xl * xl * xl / 7 + xl * xl * xl * xl * xl * xl / 8);
+      const long double ref = std::abs(xl) < 1e-3L ? exact : xl - std::log(static_cast<long double>(J));
+      const double rel = static_cast<double>(std::abs((volumetric_energy(J) - ref) / ref));
+      worst = std::max(worst, rel);
+      const double bound = (std::abs(J - 1.0) < 1e-2 ? 4 : 4 + 4 / std::abs(J - 1.0)) * 1.1e-16;
+      EXPECT_LT(rel, bound) << "J = 1 + " << (J - 1.0);
+    }
+  }
+  EXPECT_GT(worst, 0.0);  // (the comparison is not with itself)
+}
+
 // Small strains: T = K tr(eps) I + 2 mu dev(eps).
 TEST(Material, SmallStrainLimitIsHooke) {
   const ElasticConstants c = ElasticConstants::from(kPMMA);
