@@ -85,16 +85,13 @@ EnergyDistribution energy_distribution(const std::vector<CrackEvent>& events) {
 namespace {
 
 /// Least-squares slope of the distance of a track's samples from its start against time, over
-/// the samples from its start on; NaN with fewer than 3.
+/// the samples from its start on (fit_speed, as every speed of crack_tip); NaN with fewer than 3.
 double chord_speed(const TipTrack& t) {
-  double n = 0, st = 0, sd = 0, stt = 0, std_ = 0;
-  for (const TipSample& s : t.path) {
-    if (s.t < t.t_start) continue;
-    const double d = std::hypot(s.x - t.x_start, s.y - t.y_start);
-    n += 1, st += s.t, sd += d, stt += s.t * s.t, std_ += s.t * d;
-  }
-  const double den = n * stt - st * st;
-  return n >= 3 && den > 0 ? (n * std_ - st * sd) / den : std::numeric_limits<double>::quiet_NaN();
+  std::vector<TipSample> from_start;
+  for (const TipSample& s : t.path)
+    if (s.t >= t.t_start)
+      from_start.push_back({s.t, s.x, s.y, s.splits, std::hypot(s.x - t.x_start, s.y - t.y_start)});
+  return fit_speed(from_start, 0, from_start.size()).speed;
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ struct TipSample {
   double t = 0, x = 0, y = 0;  ///< time, tip reference position
   long splits = 0;             ///< nodes split so far
   /// Where the tip is along the crack, the coordinate speeds are slopes of: x on the paper's
-  /// plate (SPEC 5), the crack length from the notch tip along the leading path otherwise.
+  /// plate (SPEC 5), with [notch.*] sections the distance of the notch crack's farthest split
+  /// from the notch tip (docs/crack_fronts.md, "The tip of a run").
   double s = 0;
   /// Simulation's samples only: SPEC 5's literal tip, the largest x of any split node (it jumps
   /// to a crack nucleated ahead), and the nucleations so far (docs/crack_fronts.md).

@@ -57,7 +57,6 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& elem
                                        const ElasticConstants& c, vtkIdType e,
                                        const double* P_v_old);
 
-
 /// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
 /// brittle::Error for a cell with non-positive reference volume.
 ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const MaterialParams& m);

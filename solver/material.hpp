@@ -28,13 +28,13 @@ double rayleigh_speed(double c_p, double c_s);
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
 /// (J - 1) - ln J, the volumetric term of (B.2). Near J = 1, where every element of a brittle
 /// solid lives, from its series x^2/2 - x^3/3 + ... - x^9/9 in x = J - 1 (|x| < 1e-2: the first
-/// term left out is below 2e-17 of the sum): no log, and no cancellation between two numbers
-/// ~1e4 times the result. Elsewhere from the log.
+/// term left out is below 2e-17 of the sum): no log, and none of the cancellation that costs
+/// x - log(J) about 2 ulp / |x|. Elsewhere from the log.
 inline double volumetric_energy(double J) {
   const double x = J - 1.0;
   if (!(std::abs(x) < 1e-2)) return x - std::log(J);
-  const double tail =
-      1.0 / 2 + x * (-1.0 / 3 + x * (1.0 / 4 + x * (-1.0 / 5 + x * (1.0 / 6 + x * (-1.0 / 7 + x * (1.0 / 8 + x * (-1.0 / 9)))))));
+  const double tail = 1.0 / 2 + x * (-1.0 / 3 + x * (1.0 / 4 + x * (-1.0 / 5 + x * (1.0 / 6 +
+                      x * (-1.0 / 7 + x * (1.0 / 8 + x * (-1.0 / 9)))))));
   return x * x * tail;
 }
 
