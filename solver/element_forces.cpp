@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 #include "error.hpp"
 
 namespace brittle {
@@ -123,7 +125,8 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
 }
 
 ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const ElasticConstants& c)
-    : K_(c.K),
+    : grid_(&grid),
+      K_(c.K),
       mu_(c.mu),
       blocks_((grid.num_cells() + kLanes - 1) / kLanes),
       element_force_(12 * grid.num_cells(), 0.0),
@@ -131,7 +134,8 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       viscous_work_(kLanes * blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
       sigma1_bound_(kLanes * blocks_.size(), 0.0),
-      alpha1_(kLanes * blocks_.size(), 3.0) {
+      alpha1_(kLanes * blocks_.size(), 3.0),
+      stored_(blocks_.size(), 1) {  // the element buffer's zeros are the forces until a step
   const vtkIdType ne = grid.num_cells();
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
@@ -167,6 +171,7 @@ void ForceAssembler::rebuild(const Grid& grid) {
   const vtkIdType np = grid.num_points(), ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
   BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
+  ranges_ = 0;  // the straddling nodes are found again at the next compute
   node_start_.assign(np + 1, 0);
   for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
   for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
@@ -204,6 +209,11 @@ void ForceAssembler::split_node(const Grid& grid, vtkIdType K, vtkIdType B,
   }
   node_end_[K] = keep;
   node_end_.push_back(static_cast<vtkIdType>(node_entries_.size()));
+  // B's cells are some of K's: if K straddled ranges B may, and is summed as K is.
+  if (ranges_ > 0) {
+    straddles_.push_back(straddles_[K]);
+    if (straddles_[K]) straddling_.push_back(B);
+  }
   force_.resize(3 * grid.num_points());
   gather({K, B});
 }
@@ -219,22 +229,125 @@ struct Pass1 {
   double vol[W], inv_det[W], J[W], y[W];
 };
 
-/// The forces and stress of a block, lane-minor, before they are stored per element (the
-/// nodal sums read a corner's three components from one cache line).
+/// The forces and stress of a block, lane-minor.
 struct BlockOut {
   double f[12][W], s[6][W];
 };
+
+/// Pass 1: Ds, its adjugate and determinant, G = Ds^-1, J and J^(-1/3) by Newton's iteration
+/// (material.hpp inverse_cbrt), all lanes alike; the few elements far from J = 1 (crack tips)
+/// take the library's cube root. Shared by the step's kernel and the recomputation of a
+/// block's forces (ForceAssembler::recompute_block), which must agree bit for bit.
+template <class Blk>
+[[gnu::always_inline]] inline void pass1(const Blk& B, const double* x, Pass1& p) {
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double* p0 = x + 3 * B.node[0][l];
+    double A[9];
+    for (int k = 0; k < 3; ++k) {
+      const double* pk = x + 3 * B.node[k + 1][l];
+      for (int i = 0; i < 3; ++i) A[3 * i + k] = pk[i] - p0[i];
+    }
+    double C[9];  // adjugate, C(i, j) at [3 i + j]
+    C[0] = A[4] * A[8] - A[5] * A[7];
+    C[1] = A[2] * A[7] - A[1] * A[8];
+    C[2] = A[1] * A[5] - A[2] * A[4];
+    C[3] = A[5] * A[6] - A[3] * A[8];
+    C[4] = A[0] * A[8] - A[2] * A[6];
+    C[5] = A[2] * A[3] - A[0] * A[5];
+    C[6] = A[3] * A[7] - A[4] * A[6];
+    C[7] = A[1] * A[6] - A[0] * A[7];
+    C[8] = A[0] * A[4] - A[1] * A[3];
+    const double det = A[0] * C[0] + A[1] * C[3] + A[2] * C[6];
+    const double inv_det = 1.0 / det;
+    for (int k = 0; k < 9; ++k) {
+      p.Ds[k][l] = A[k];
+      p.G[k][l] = C[k] * inv_det;
+    }
+    const double vol = det * (1.0 / 6.0);
+    const double J = vol * B.inv_V0[l];
+    double y = (4.0 - J) * (1.0 / 3.0);
+    for (int i = 0; i < 3; ++i) y *= (4.0 - J * y * y * y) * (1.0 / 3.0);
+    p.vol[l] = vol;
+    p.inv_det[l] = inv_det;
+    p.J[l] = J;
+    p.y[l] = y;
+  }
+  for (int l = 0; l < W; ++l)
+    if (std::abs(p.J[l] - 1.0) >= 0.05) p.y[l] = 1.0 / std::cbrt(p.J[l]);
+}
+
+/// T_el of lane l (B.4), symmetric, row-major in T:
+/// (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)], B = F F^T, F = Ds Dm^-1.
+/// Returns J^(-2/3) tr B (alpha1 of (B.2), for the energy).
+template <class Blk>
+[[gnu::always_inline]] inline double elastic_stress(const Blk& B, const Pass1& p, int l,
+                                                    double intact, double K, double mu,
+                                                    double T[9]) {
+  double F[9];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      F[3 * i + j] = p.Ds[3 * i][l] * B.Dm_inv[j][l] + p.Ds[3 * i + 1][l] * B.Dm_inv[3 + j][l] +
+                     p.Ds[3 * i + 2][l] * B.Dm_inv[6 + j][l];
+  auto dot_rows = [&F](int i, int j) {
+    return F[3 * i] * F[3 * j] + F[3 * i + 1] * F[3 * j + 1] + F[3 * i + 2] * F[3 * j + 2];
+  };
+  const double B00 = dot_rows(0, 0), B11 = dot_rows(1, 1), B22 = dot_rows(2, 2);
+  const double B01 = dot_rows(0, 1), B12 = dot_rows(1, 2), B02 = dot_rows(0, 2);
+  const double y = p.y[l], y2 = y * y, mu_J53 = mu * y2 * y2 * y;
+  const double inv_J = 6.0 * B.V0[l] * p.inv_det[l];
+  const double pressure = -K * (inv_J - 1.0) - mu_J53 * ((B00 + B11 + B22) * (1.0 / 3.0));
+  T[0] = intact * (mu_J53 * B00 + pressure);
+  T[4] = intact * (mu_J53 * B11 + pressure);
+  T[8] = intact * (mu_J53 * B22 + pressure);
+  T[1] = T[3] = intact * (mu_J53 * B01);
+  T[5] = T[7] = intact * (mu_J53 * B12);
+  T[2] = T[6] = intact * (mu_J53 * B02);
+  return y2 * (B00 + B11 + B22);
+}
+
+/// Component i of the force on corner j + 1: f = -v T_el G^T - P_v (P_v = v T_v G^T).
+[[gnu::always_inline]] inline double corner_component(const double T[9], const double G[9], int i,
+                                                      int j, double vol, double Pv) {
+  const double Tg = T[3 * i] * G[3 * j] + T[3 * i + 1] * G[3 * j + 1] + T[3 * i + 2] * G[3 * j + 2];
+  return -vol * Tg - Pv;
+}
 
 }  // namespace
 
 vtkIdType ForceAssembler::compute(const Grid& grid) {
   const vtkIdType bad = compute_elements(grid);
-  gather_all(grid);
+  assemble(grid);
   return bad;
 }
 
+void ForceAssembler::partition(int ranges) {
+  const vtkIdType nb = static_cast<vtkIdType>(blocks_.size());
+  const vtkIdType np = static_cast<vtkIdType>(node_start_.size());
+  ranges_ = ranges;
+  range_start_.resize(ranges + 1);
+  for (int r = 0; r <= ranges; ++r) range_start_[r] = nb * r / ranges;
+  auto range_of = [this](vtkIdType block) {
+    return std::upper_bound(range_start_.begin(), range_start_.end(), block) -
+           range_start_.begin() - 1;
+  };
+  straddles_.assign(np, 0);
+  block_straddles_.assign(nb, 0);
+  straddling_.clear();
+  for (vtkIdType p = 0; p < np; ++p) {
+    if (node_start_[p] == node_end_[p]) continue;
+    const vtkIdType first = node_entries_[node_start_[p]] / 4 / kLanes;
+    const vtkIdType last = node_entries_[node_end_[p] - 1] / 4 / kLanes;
+    if (range_of(first) == range_of(last)) continue;
+    straddles_[p] = 1;
+    straddling_.push_back(p);
+    for (vtkIdType k = node_start_[p]; k < node_end_[p]; ++k)
+      block_straddles_[node_entries_[k] / 4 / kLanes] = 1;
+  }
+}
+
 vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
-  const vtkIdType ne = grid.num_cells();
+  const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
   double* ef = element_force_.data();
@@ -242,148 +355,146 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
   double* volume = volume_.data();
   double* bound = sigma1_bound_.data();
   const double K = K_, mu = mu_;
-  const vtkIdType nb = static_cast<vtkIdType>(blocks_.size());
+  // One range of blocks per thread of the team: a node whose cells all lie in one range gets
+  // its corner forces added there, in cell order; the others (straddling_) are summed after,
+  // from the element buffer. Either way a node's sum runs over its cells in cell order from
+  // zero: the bits do not depend on the ranges, so neither on the thread count.
+  const int ranges = omp_get_max_threads();
+  if (ranges != ranges_) partition(ranges);
+  std::fill(stored_.begin(), stored_.end(), 0);
+  force_.resize(3 * np);
+  double* f = force_.data();
+  const std::uint8_t* straddles = straddles_.data();
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
 
-#pragma omp parallel for schedule(static) reduction(min : first_bad)
-  for (vtkIdType b = 0; b < nb; ++b) {
-    Block& B = blocks_[b];
-    const vtkIdType e0 = b * W;
-    const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
-    Pass1 p;
-    BlockOut r;
-    double* power = vp + e0;
-    double* alpha1_out = alpha1_.data() + e0;
-    double* vol_out = volume + e0;
-    double* bound_out = bound + e0;
-    double omega[W];
-    for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+#pragma omp parallel num_threads(ranges) reduction(min : first_bad)
+  {
+#pragma omp for schedule(static)
+    for (vtkIdType i = 0; i < 3 * np; ++i) f[i] = 0.0;
+    const int team = omp_get_num_threads();
+    for (int range = omp_get_thread_num(); range < ranges; range += team)
+      for (vtkIdType b = range_start_[range]; b < range_start_[range + 1]; ++b) {
+        Block& B = blocks_[b];
+        const vtkIdType e0 = b * W;
+        const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
+        Pass1 p;
+        BlockOut r;
+        double* power = vp + e0;
+        double* alpha1_out = alpha1_.data() + e0;
+        double* vol_out = volume + e0;
+        double* bound_out = bound + e0;
+        double omega[W];
+        for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+        pass1(B, x, p);
 
-    // Pass 1: Ds, its adjugate and determinant, G = Ds^-1, J and J^(-1/3) by Newton's iteration
-    // (material.hpp inverse_cbrt), all lanes alike.
+        // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
 #pragma omp simd
-    for (int l = 0; l < W; ++l) {
-      const double* p0 = x + 3 * B.node[0][l];
-      double A[9];
-      for (int k = 0; k < 3; ++k) {
-        const double* pk = x + 3 * B.node[k + 1][l];
-        for (int i = 0; i < 3; ++i) A[3 * i + k] = pk[i] - p0[i];
-      }
-      double C[9];  // adjugate, C(i, j) at [3 i + j]
-      C[0] = A[4] * A[8] - A[5] * A[7];
-      C[1] = A[2] * A[7] - A[1] * A[8];
-      C[2] = A[1] * A[5] - A[2] * A[4];
-      C[3] = A[5] * A[6] - A[3] * A[8];
-      C[4] = A[0] * A[8] - A[2] * A[6];
-      C[5] = A[2] * A[3] - A[0] * A[5];
-      C[6] = A[3] * A[7] - A[4] * A[6];
-      C[7] = A[1] * A[6] - A[0] * A[7];
-      C[8] = A[0] * A[4] - A[1] * A[3];
-      const double det = A[0] * C[0] + A[1] * C[3] + A[2] * C[6];
-      const double inv_det = 1.0 / det;
-      for (int k = 0; k < 9; ++k) {
-        p.Ds[k][l] = A[k];
-        p.G[k][l] = C[k] * inv_det;
-      }
-      const double vol = det * (1.0 / 6.0);
-      const double J = vol * B.inv_V0[l];
-      double y = (4.0 - J) * (1.0 / 3.0);
-      for (int i = 0; i < 3; ++i) y *= (4.0 - J * y * y * y) * (1.0 / 3.0);
-      p.vol[l] = vol;
-      p.inv_det[l] = inv_det;
-      p.J[l] = J;
-      p.y[l] = y;
-    }
-    // The few elements far from J = 1 (crack tips) take the library's cube root.
-    for (int l = 0; l < W; ++l)
-      if (std::abs(p.J[l] - 1.0) >= 0.05) p.y[l] = 1.0 / std::cbrt(p.J[l]);
-
-    // Pass 2: F, T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
-#pragma omp simd
-    for (int l = 0; l < W; ++l) {
-      double Ds[9], G[9], Dm[9];
-      for (int k = 0; k < 9; ++k) Ds[k] = p.Ds[k][l], G[k] = p.G[k][l], Dm[k] = B.Dm_inv[k][l];
-      // T_el = (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)], B = F F^T, F = Ds Dm^-1
-      double F[9];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          F[3 * i + j] = Ds[3 * i] * Dm[j] + Ds[3 * i + 1] * Dm[3 + j] + Ds[3 * i + 2] * Dm[6 + j];
-      auto dot_rows = [&F](int i, int j) {
-        return F[3 * i] * F[3 * j] + F[3 * i + 1] * F[3 * j + 1] + F[3 * i + 2] * F[3 * j + 2];
-      };
-      const double B00 = dot_rows(0, 0), B11 = dot_rows(1, 1), B22 = dot_rows(2, 2);
-      const double B01 = dot_rows(0, 1), B12 = dot_rows(1, 2), B02 = dot_rows(0, 2);
-      const double y = p.y[l], y2 = y * y, mu_J53 = mu * y2 * y2 * y;
-      alpha1_out[l] = y2 * (B00 + B11 + B22);  // J^(-2/3) tr B, for the energy (B.2)
-      const double inv_J = 6.0 * B.V0[l] * p.inv_det[l];
-      const double pressure = -K * (inv_J - 1.0) - mu_J53 * ((B00 + B11 + B22) * (1.0 / 3.0));
-      const double intact = 1.0 - omega[l];
-      double T[9];
-      T[0] = intact * (mu_J53 * B00 + pressure);
-      T[4] = intact * (mu_J53 * B11 + pressure);
-      T[8] = intact * (mu_J53 * B22 + pressure);
-      T[1] = T[3] = intact * (mu_J53 * B01);
-      T[5] = T[7] = intact * (mu_J53 * B12);
-      T[2] = T[6] = intact * (mu_J53 * B02);
-      // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
-      const double* v0 = v + 3 * B.node[0][l];
-      double Vs[9];
-      for (int k = 0; k < 3; ++k) {
-        const double* vk = v + 3 * B.node[k + 1][l];
-        for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
-      }
-      double L[9];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          L[3 * i + j] = Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
-      const double trD = L[0] + L[4] + L[8];
-      const double eta_dev = B.eta_dev[l];
-      const double bulk = (B.eta_dil[l] - eta_dev * (2.0 / 3.0)) * trD;
-      double Tv[9];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
-      Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
-      // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
-      const double vol = p.vol[l];
-      double old_work = 0.0, new_work = 0.0;
-      double f0[3] = {0.0, 0.0, 0.0};
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) {
-          const double Tg = T[3 * i] * G[3 * j] + T[3 * i + 1] * G[3 * j + 1] +
-                            T[3 * i + 2] * G[3 * j + 2];
-          const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
-                                   Tv[3 * i + 2] * G[3 * j + 2]);
-          const double f = -vol * Tg - Pv;
-          r.f[3 * (j + 1) + i][l] = f;
-          f0[i] -= f;
-          const double P_old = B.P_v[3 * j + i][l];
-          old_work += P_old * Vs[3 * i + j];
-          new_work += Pv * Vs[3 * i + j];
-          B.P_v[3 * j + i][l] = Pv;
+        for (int l = 0; l < W; ++l) {
+          double G[9], T[9];
+          for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
+          alpha1_out[l] = elastic_stress(B, p, l, 1.0 - omega[l], K, mu, T);
+          // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
+          const double* v0 = v + 3 * B.node[0][l];
+          double Vs[9];
+          for (int k = 0; k < 3; ++k) {
+            const double* vk = v + 3 * B.node[k + 1][l];
+            for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
+          }
+          double L[9];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+              L[3 * i + j] = Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
+          const double trD = L[0] + L[4] + L[8];
+          const double eta_dev = B.eta_dev[l];
+          const double bulk = (B.eta_dil[l] - eta_dev * (2.0 / 3.0)) * trD;
+          double Tv[9];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
+          Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
+          // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
+          const double vol = p.vol[l];
+          double old_work = 0.0, new_work = 0.0;
+          double f0[3] = {0.0, 0.0, 0.0};
+          for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) {
+              const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
+                                       Tv[3 * i + 2] * G[3 * j + 2]);
+              const double fc = corner_component(T, G, i, j, vol, Pv);
+              r.f[3 * (j + 1) + i][l] = fc;
+              f0[i] -= fc;
+              const double P_old = B.P_v[3 * j + i][l];
+              old_work += P_old * Vs[3 * i + j];
+              new_work += Pv * Vs[3 * i + j];
+              B.P_v[3 * j + i][l] = Pv;
+            }
+          for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
+          power[l] = 0.5 * (old_work + new_work);
+          vol_out[l] = vol;
+          bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
+          r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
+          r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
         }
-      for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
-      power[l] = 0.5 * (old_work + new_work);
-      vol_out[l] = vol;
-      bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
-      r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
-      r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
-    }
 
-    // Forces and stress per element. An inverted, degenerate or NaN element keeps its old
-    // forces and stress; its other values are not meaningful (the step is abandoned before
-    // its viscous power is booked).
-    for (int l = 0; l < lanes; ++l) {
-      const vtkIdType e = e0 + l;
-      if (!(p.J[l] > 0.0)) {
-        first_bad = std::min(first_bad, e);
-        continue;
+        // Stress per element, corner forces into the nodal sums (lanes in cell order). An
+        // inverted, degenerate or NaN element adds nothing and keeps its old stress; the
+        // step is abandoned.
+        const bool mixed = block_straddles_[b] != 0;
+        for (int l = 0; l < lanes; ++l) {
+          const vtkIdType e = e0 + l;
+          if (!(p.J[l] > 0.0)) {
+            first_bad = std::min(first_bad, e);
+            continue;
+          }
+          for (int k = 0; k < 6; ++k) stress[6 * e + k] = r.s[k][l];
+          for (int c = 0; c < 4; ++c) {
+            const std::int32_t n = B.node[c][l];
+            if (mixed && straddles[n]) continue;
+            double* fn = f + 3 * n;
+            fn[0] += r.f[3 * c][l], fn[1] += r.f[3 * c + 1][l], fn[2] += r.f[3 * c + 2][l];
+          }
+          if (mixed)
+            for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
+        }
+        if (mixed) stored_[b] = 1;
       }
-      for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
-      for (int k = 0; k < 6; ++k) stress[6 * e + k] = r.s[k][l];
-    }
   }
 
   return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
+}
+
+void ForceAssembler::recompute_block(vtkIdType b) {
+  const Grid& grid = *grid_;
+  const vtkIdType ne = grid.num_cells();
+  const double *x = grid.x(), *Omega = grid.damage();
+  const Block& B = blocks_[b];
+  const vtkIdType e0 = b * W;
+  const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
+  Pass1 p;
+  BlockOut r;
+  double omega[W];
+  for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+  pass1(B, x, p);
+  const double K = K_, mu = mu_;
+  // As the step's pass 2, with the P_v it stored: the same forces, bit for bit.
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    double G[9], T[9];
+    for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
+    elastic_stress(B, p, l, 1.0 - omega[l], K, mu, T);
+    const double vol = p.vol[l];
+    double f0[3] = {0.0, 0.0, 0.0};
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const double fc = corner_component(T, G, i, j, vol, B.P_v[3 * j + i][l]);
+        r.f[3 * (j + 1) + i][l] = fc;
+        f0[i] -= fc;
+      }
+    for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
+  }
+  double* ef = element_force_.data();
+  for (int l = 0; l < lanes; ++l)
+    for (int k = 0; k < 12; ++k) ef[12 * (e0 + l) + k] = r.f[k][l];
+  stored_[b] = 1;
 }
 
 void ForceAssembler::viscous_stress_power(vtkIdType e, double P_v[9]) const {
@@ -407,6 +518,7 @@ inline void gather_node(vtkIdType p, const vtkIdType* start, const vtkIdType* en
 void ForceAssembler::gather_all(const Grid& grid) {
   const vtkIdType np = grid.num_points();
   force_.resize(3 * np);
+  for (std::size_t b = 0; b < blocks_.size(); ++b) store(static_cast<vtkIdType>(b));
   const vtkIdType *start = node_start_.data(), *end = node_end_.data();
   const std::int32_t* entries = node_entries_.data();
   const double* ef = element_force_.data();
@@ -415,10 +527,24 @@ void ForceAssembler::gather_all(const Grid& grid) {
   for (vtkIdType p = 0; p < np; ++p) gather_node(p, start, end, entries, ef, f);
 }
 
+void ForceAssembler::assemble(const Grid&) {
+  const vtkIdType n = static_cast<vtkIdType>(straddling_.size());
+  const vtkIdType *start = node_start_.data(), *end = node_end_.data();
+  const std::int32_t* entries = node_entries_.data();
+  const double* ef = element_force_.data();
+  const vtkIdType* nodes = straddling_.data();
+  double* f = force_.data();
+  // Every block with a corner of a straddling node was stored by compute_elements.
+#pragma omp parallel for schedule(static)
+  for (vtkIdType i = 0; i < n; ++i) gather_node(nodes[i], start, end, entries, ef, f);
+}
+
 void ForceAssembler::gather(const std::vector<vtkIdType>& nodes) {
-  for (vtkIdType p : nodes)
+  for (vtkIdType p : nodes) {
+    for (vtkIdType k = node_start_[p]; k < node_end_[p]; ++k) store(node_entries_[k] / 4 / kLanes);
     gather_node(p, node_start_.data(), node_end_.data(), node_entries_.data(),
                 element_force_.data(), force_.data());
+  }
 }
 
 void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor) {
@@ -431,6 +557,7 @@ void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor)
   T_el << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
   const Mat3 df = -(factor - 1.0) * (det_Ds * (1.0 / 6.0)) * T_el * G.transpose();
   const Vec3 df0 = -df.rowwise().sum();
+  store(e / kLanes);
   double* out = element_force_.data() + 12 * e;
   for (int k = 0; k < 3; ++k) {
     out[k] += df0[k];

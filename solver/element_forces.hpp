@@ -64,13 +64,21 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const
 /// Lumped masses: each node gets rho0 V0 / 4 from each of its elements (2.1).
 void lump_masses(Grid& grid, const ElementData& elements, double rho0);
 
-/// Nodal internal forces. Elements write their 12 force components into a buffer in cell
-/// order; each node then sums its (element, corner) entries in a fixed order. No atomics and
-/// no reductions over threads, so results are bitwise independent of the thread count.
+/// Nodal internal forces. Each node's force is the sum of its (element, corner) forces in
+/// cell order, starting from zero: the element loop adds them as it goes (one range of blocks
+/// per thread; a node whose cells lie in two ranges is summed after the loop from the
+/// element buffer, in the same order). No atomics and no reductions over threads, so results
+/// are bitwise independent of the thread count, and the per-element forces are not stored
+/// and read back (docs/performance.md, nodal sums).
 ///
 /// The element loop works on blocks of kLanes consecutive cells whose constants sit side by
 /// side (structure of arrays within a block), so the compiler evaluates one lane per SIMD
 /// slot; the block boundaries are fixed by the cell numbering, never by the threads.
+///
+/// The element buffer (corner forces per element) is filled on demand: blocks that hold a
+/// straddling node's corner by the element loop, any other block when damage, a split or a
+/// test asks for its forces, by recompute_block (the same arithmetic from the stored P_v).
+/// Between two steps it is valid for the positions of the last compute only.
 class ForceAssembler {
  public:
   static constexpr int kLanes = 8;
@@ -78,7 +86,7 @@ class ForceAssembler {
   ForceAssembler(const Grid& grid, const ElementData& elements, const ElasticConstants& c);
 
   /// After a topology change (node splits; the number of cells never changes): rebuilds the
-  /// node -> (element, corner) table and re-sums every node's force from the element buffer.
+  /// node -> (element, corner) table and re-sums every node's force from the element forces.
   void rebuild(const Grid& grid);
 
   /// Computes elastic + viscous element forces at the grid's current x and v and sums them
@@ -89,10 +97,11 @@ class ForceAssembler {
   /// index of the first element with J <= 0 or NaN, or -1 if none.
   vtkIdType compute(const Grid& grid);
 
-  /// The two halves of compute(): the element loop (stress, element forces, viscous power),
-  /// then the nodal sums.
+  /// The two halves of compute(): the element loop (stress, element forces and the nodal
+  /// sums of all nodes but the straddling ones, viscous power), then the straddling nodes'
+  /// sums.
   vtkIdType compute_elements(const Grid& grid);
-  void assemble(const Grid& grid) { gather_all(grid); }
+  void assemble(const Grid& grid);
 
   /// T_el carries (1 - Omega) (B.4): when Omega of element e changes, its elastic stress and
   /// the elastic part of its corner forces are multiplied by `factor` = (1 - Omega_new) /
@@ -104,8 +113,8 @@ class ForceAssembler {
   /// re-summed: what rebuild() gives, bit for bit, at the cost of K's cells only.
   void split_node(const Grid& grid, vtkIdType K, vtkIdType B, const std::vector<vtkIdType>& cells);
 
-  /// Re-sums the nodal forces of the given nodes from the element buffer (same order as
-  /// compute(), so the result is bitwise what a full gather gives).
+  /// Re-sums the nodal forces of the given nodes from their element forces (same order as
+  /// compute(), so the result is bitwise what compute() gives).
   void gather(const std::vector<vtkIdType>& nodes);
 
   /// Nodal element forces, 3 per point, from the last compute() (and any gather since).
@@ -122,7 +131,11 @@ class ForceAssembler {
   /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds
   /// every nodal average (2.10); viscous powers. These per-element arrays hold whole blocks
   /// (the element loop writes them lane by lane): entries past the last cell are padding.
-  Vec3 corner_force(vtkIdType e, int c) const { return Vec3(element_force_.data() + 12 * e + 3 * c); }
+  /// (Not const: the element buffer is filled on demand.)
+  Vec3 corner_force(vtkIdType e, int c) {
+    store(e / kLanes);
+    return Vec3(element_force_.data() + 12 * e + 3 * c);
+  }
   const double* volumes() const { return volume_.data(); }
   const double* viscous_powers() const { return viscous_power_.data(); }
   const double* sigma1_bound() const { return sigma1_bound_.data(); }
@@ -147,6 +160,15 @@ class ForceAssembler {
  private:
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);
+  /// Splits the blocks into `ranges` ranges and flags the nodes whose cells lie in two.
+  void partition(int ranges);
+  /// Brings block b's element forces into the element buffer (recompute_block) unless there.
+  void store(vtkIdType b) {
+    if (!stored_[b]) recompute_block(b);
+  }
+  /// Block b's corner forces at the grid's current x and Omega with the P_v of the last
+  /// compute: the element loop's values bit for bit (the same code, tests/test_kernel.cpp).
+  void recompute_block(vtkIdType b);
   /// The cell in lane l of block b: b kLanes + l, or for a padding lane past the last cell
   /// (ne cells) the block's first cell.
   static vtkIdType lane_cell(vtkIdType b, int l, vtkIdType ne) {
@@ -163,10 +185,11 @@ class ForceAssembler {
     double P_v[9][kLanes];     // v T_v G^T of the last step, column-major 3x3
   };
 
+  const Grid* grid_;
   double K_, mu_;
   std::vector<Block> blocks_;
   std::vector<double> force_;           // 3 per point: the gathered nodal forces
-  std::vector<double> element_force_;   // 12 per element: forces on corners 0..3
+  std::vector<double> element_force_;   // 12 per element: forces on corners 0..3, on demand
   std::vector<double> viscous_power_;   // 1 per element
   std::vector<double> viscous_work_;    // 1 per element: integral of its viscous power
   std::vector<double> volume_;          // 1 per element
@@ -174,6 +197,12 @@ class ForceAssembler {
   std::vector<double> alpha1_;          // 1 per element
   std::vector<vtkIdType> node_start_, node_end_;  // node -> range in node_entries_
   std::vector<std::int32_t> node_entries_; // 4 * element + corner (32 bits: less traffic)
+  std::vector<std::uint8_t> stored_;    // per block: element_force_ holds the last compute's
+  int ranges_ = 0;                      // the ranges the flags below are for (0: none yet)
+  std::vector<vtkIdType> range_start_;  // range r: blocks [range_start_[r], range_start_[r + 1])
+  std::vector<std::uint8_t> straddles_;        // per node: its cells lie in two ranges
+  std::vector<std::uint8_t> block_straddles_;  // per block: holds a straddling node's corner
+  std::vector<vtkIdType> straddling_;          // the straddling nodes
 };
 
 }  // namespace brittle

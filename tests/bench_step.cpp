@@ -57,8 +57,9 @@ void BM_Step(benchmark::State& state, std::vector<std::string> files,
   state.counters["splits"] = static_cast<double>(sim.fracture().splits());
 }
 
-/// The element loop alone (compute_elements) and the nodal sums alone (assemble), on the
-/// initial state: the two halves of the force computation, for the roofline.
+/// The element loop with the nodal sums (compute_elements) and the sums of the nodes that
+/// straddle two threads' ranges (assemble), on the initial state: the two halves of the force
+/// computation, for the roofline.
 void BM_Kernel(benchmark::State& state, std::vector<std::string> files, bool assembly) {
   const Case& c = load(files, {"loading.sigma_over_sigmac=0.9", "fracture.mode=none"});
   brittle::Scene scene = c.scene;
