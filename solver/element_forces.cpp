@@ -7,6 +7,10 @@
 #include <limits>
 
 #include <omp.h>
+#include <unistd.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "error.hpp"
 
@@ -42,6 +46,14 @@ inline Vec3 point(const double* a, vtkIdType i) {
   det = A(0, 0) * C(0, 0) + A(0, 1) * C(1, 0) + A(0, 2) * C(2, 0);
   inv_det = 1.0 / det;
   return C * inv_det;
+}
+
+/// About 500 B of a step's data per tet (docs/performance.md, traffic): true when that is
+/// more than twice the L3 (32 MiB if the system does not say).
+bool larger_than_caches(vtkIdType cells) {
+  const long l3 = sysconf(_SC_LEVEL3_CACHE_SIZE);
+  const double cache = l3 > 0 ? static_cast<double>(l3) : 32.0 * 1024 * 1024;
+  return 500.0 * static_cast<double>(cells) > 2.0 * cache;
 }
 
 }  // namespace
@@ -126,6 +138,7 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
 
 ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const ElasticConstants& c)
     : grid_(&grid),
+      stream_(larger_than_caches(grid.num_cells())),
       K_(c.K),
       mu_(c.mu),
       blocks_((grid.num_cells() + kLanes - 1) / kLanes),
@@ -277,13 +290,17 @@ template <class Blk>
     if (std::abs(p.J[l] - 1.0) >= 0.05) p.y[l] = 1.0 / std::cbrt(p.J[l]);
 }
 
-/// T_el of lane l (B.4), symmetric, row-major in T:
-/// (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)], B = F F^T, F = Ds Dm^-1.
-/// Returns J^(-2/3) tr B (alpha1 of (B.2), for the energy).
+/// T_el (B.4) of one lane: xx, yy, zz, xy, yz, xz, and alpha1 = J^(-2/3) tr B of (B.2).
+struct LaneStress {
+  double xx, yy, zz, xy, yz, xz, alpha1;
+};
+
+/// (1-Omega) [-K(1/J - 1) I + mu J^(-5/3) (B - tr(B)/3 I)], B = F F^T, F = Ds Dm^-1, for lane
+/// l of a block. Helpers of the simd loops take and return values, never a loop-local array
+/// (an escaping local array stops GCC from vectorising the loop).
 template <class Blk>
-[[gnu::always_inline]] inline double elastic_stress(const Blk& B, const Pass1& p, int l,
-                                                    double intact, double K, double mu,
-                                                    double T[9]) {
+[[gnu::always_inline]] inline LaneStress elastic_stress(const Blk& B, const Pass1& p, int l,
+                                                        double intact, double K, double mu) {
   double F[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -297,26 +314,66 @@ template <class Blk>
   const double y = p.y[l], y2 = y * y, mu_J53 = mu * y2 * y2 * y;
   const double inv_J = 6.0 * B.V0[l] * p.inv_det[l];
   const double pressure = -K * (inv_J - 1.0) - mu_J53 * ((B00 + B11 + B22) * (1.0 / 3.0));
-  T[0] = intact * (mu_J53 * B00 + pressure);
-  T[4] = intact * (mu_J53 * B11 + pressure);
-  T[8] = intact * (mu_J53 * B22 + pressure);
-  T[1] = T[3] = intact * (mu_J53 * B01);
-  T[5] = T[7] = intact * (mu_J53 * B12);
-  T[2] = T[6] = intact * (mu_J53 * B02);
-  return y2 * (B00 + B11 + B22);
+  return {intact * (mu_J53 * B00 + pressure), intact * (mu_J53 * B11 + pressure),
+          intact * (mu_J53 * B22 + pressure), intact * (mu_J53 * B01),
+          intact * (mu_J53 * B12),            intact * (mu_J53 * B02),
+          y2 * (B00 + B11 + B22)};
 }
 
-/// Component i of the force on corner j + 1: f = -v T_el G^T - P_v (P_v = v T_v G^T).
-[[gnu::always_inline]] inline double corner_component(const double T[9], const double G[9], int i,
-                                                      int j, double vol, double Pv) {
-  const double Tg = T[3 * i] * G[3 * j] + T[3 * i + 1] * G[3 * j + 1] + T[3 * i + 2] * G[3 * j + 2];
+/// Component i of the force on corner j + 1, f = -v T_el G^T - P_v (P_v = v T_v G^T), from
+/// row i of T_el and row j of G.
+[[gnu::always_inline]] inline double corner_component(double t0, double t1, double t2, double g0,
+                                                      double g1, double g2, double vol,
+                                                      double Pv) {
+  const double Tg = t0 * g0 + t1 * g1 + t2 * g2;
   return -vol * Tg - Pv;
+}
+
+/// dst[0..8) = src (kLanes doubles, dst 64-byte aligned within its array): with non-temporal
+/// stores if `stream` (x86), else plain ones.
+inline void store_line(double* dst, const double* src, bool stream) {
+#if defined(__SSE2__)
+  if (stream) {
+    for (int i = 0; i < W; i += 2) _mm_stream_pd(dst + i, _mm_loadu_pd(src + i));
+    return;
+  }
+#endif
+  for (int i = 0; i < W; ++i) dst[i] = src[i];
+}
+
+/// One element's 6 stress components (16-byte aligned: 48 e bytes into a malloc'ed array).
+inline void store_stress(double* dst, const double* src, bool stream) {
+#if defined(__SSE2__)
+  if (stream) {
+    for (int i = 0; i < 6; i += 2) _mm_stream_pd(dst + i, _mm_loadu_pd(src + i));
+    return;
+  }
+#endif
+  for (int i = 0; i < 6; ++i) dst[i] = src[i];
+}
+
+/// How many blocks ahead the element loop asks for its data.
+constexpr int kAhead = 2;
+
+/// Asks the caches for a block's constants and its viscous work (read and written).
+template <class Blk>
+inline void prefetch_block(const Blk& B, const double* work) {
+  const char* c = reinterpret_cast<const char*>(&B);
+  for (std::size_t k = 0; k < sizeof(Blk); k += 64) __builtin_prefetch(c + k, 1);
+  __builtin_prefetch(work, 1);
+}
+
+/// Orders a thread's non-temporal stores before what follows (the end of the parallel region).
+inline void end_streaming() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
 }
 
 }  // namespace
 
-vtkIdType ForceAssembler::compute(const Grid& grid) {
-  const vtkIdType bad = compute_elements(grid);
+vtkIdType ForceAssembler::compute(const Grid& grid, double dt) {
+  const vtkIdType bad = compute_elements(grid, dt);
   assemble(grid);
   return bad;
 }
@@ -346,12 +403,13 @@ void ForceAssembler::partition(int ranges) {
   }
 }
 
-vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
+vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
   double* ef = element_force_.data();
   double* vp = viscous_power_.data();
+  double* work = viscous_work_.data();
   double* volume = volume_.data();
   double* bound = sigma1_bound_.data();
   const double K = K_, mu = mu_;
@@ -365,6 +423,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
   force_.resize(3 * np);
   double* f = force_.data();
   const std::uint8_t* straddles = straddles_.data();
+  const bool stream = stream_;
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
 
 #pragma omp parallel num_threads(ranges) reduction(min : first_bad)
@@ -377,12 +436,11 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
         Block& B = blocks_[b];
         const vtkIdType e0 = b * W;
         const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
+        if (b + kAhead < range_start_[range + 1]) prefetch_block(blocks_[b + kAhead], work + e0 + kAhead * W);
         Pass1 p;
         BlockOut r;
-        double* power = vp + e0;
-        double* alpha1_out = alpha1_.data() + e0;
-        double* vol_out = volume + e0;
-        double* bound_out = bound + e0;
+        double* work_io = work + e0;
+        double power[W], alpha1_out[W], vol_out[W], bound_out[W];
         double omega[W];
         for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
         pass1(B, x, p);
@@ -390,9 +448,11 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
         // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
 #pragma omp simd
         for (int l = 0; l < W; ++l) {
-          double G[9], T[9];
+          double G[9];
           for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
-          alpha1_out[l] = elastic_stress(B, p, l, 1.0 - omega[l], K, mu, T);
+          const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
+          const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
+          alpha1_out[l] = st.alpha1;
           // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
           const double* v0 = v + 3 * B.node[0][l];
           double Vs[9];
@@ -419,7 +479,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
             for (int i = 0; i < 3; ++i) {
               const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
                                        Tv[3 * i + 2] * G[3 * j + 2]);
-              const double fc = corner_component(T, G, i, j, vol, Pv);
+              const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
+                                                 G[3 * j + 1], G[3 * j + 2], vol, Pv);
               r.f[3 * (j + 1) + i][l] = fc;
               f0[i] -= fc;
               const double P_old = B.P_v[3 * j + i][l];
@@ -429,11 +490,19 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
             }
           for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
           power[l] = 0.5 * (old_work + new_work);
+          work_io[l] += dt * power[l];  // the viscous work of the step (one sum per element)
           vol_out[l] = vol;
           bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
           r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
           r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
         }
+
+        // The per-element results: each a whole cache line per block, streamed past the
+        // caches on meshes larger than them (no read for ownership, docs/performance.md).
+        store_line(vp + e0, power, stream);
+        store_line(alpha1_.data() + e0, alpha1_out, stream);
+        store_line(volume + e0, vol_out, stream);
+        store_line(bound + e0, bound_out, stream);
 
         // Stress per element, corner forces into the nodal sums (lanes in cell order). An
         // inverted, degenerate or NaN element adds nothing and keeps its old stress; the
@@ -445,7 +514,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
             first_bad = std::min(first_bad, e);
             continue;
           }
-          for (int k = 0; k < 6; ++k) stress[6 * e + k] = r.s[k][l];
+          const double s6[6] = {r.s[0][l], r.s[1][l], r.s[2][l], r.s[3][l], r.s[4][l], r.s[5][l]};
+          store_stress(stress + 6 * e, s6, stream);
           for (int c = 0; c < 4; ++c) {
             const std::int32_t n = B.node[c][l];
             if (mixed && straddles[n]) continue;
@@ -457,6 +527,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid) {
         }
         if (mixed) stored_[b] = 1;
       }
+    end_streaming();
   }
 
   return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;
@@ -478,14 +549,16 @@ void ForceAssembler::recompute_block(vtkIdType b) {
   // As the step's pass 2, with the P_v it stored: the same forces, bit for bit.
 #pragma omp simd
   for (int l = 0; l < W; ++l) {
-    double G[9], T[9];
+    double G[9];
     for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
-    elastic_stress(B, p, l, 1.0 - omega[l], K, mu, T);
+    const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
+    const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
     const double vol = p.vol[l];
     double f0[3] = {0.0, 0.0, 0.0};
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i) {
-        const double fc = corner_component(T, G, i, j, vol, B.P_v[3 * j + i][l]);
+        const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
+                                           G[3 * j + 1], G[3 * j + 2], vol, B.P_v[3 * j + i][l]);
         r.f[3 * (j + 1) + i][l] = fc;
         f0[i] -= fc;
       }
@@ -567,14 +640,6 @@ void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor)
   }
   for (int j = 0; j < 6; ++j) s[j] *= factor;
   sigma1_bound_[e] *= factor;
-}
-
-void ForceAssembler::accumulate_viscous_work(const Grid& grid, double dt) {
-  const vtkIdType ne = grid.num_cells();
-  const double* vp = viscous_power_.data();
-  double* work = viscous_work_.data();
-#pragma omp parallel for schedule(static)
-  for (vtkIdType e = 0; e < ne; ++e) work[e] += dt * vp[e];
 }
 
 ExactSum ForceAssembler::viscous_work(const Grid& grid, const std::uint8_t* counted) const {

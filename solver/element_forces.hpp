@@ -93,14 +93,16 @@ class ForceAssembler {
   /// into nodal_forces(), the elastic stress into the grid's "stress" cell array, and the
   /// per-element viscous power of the step: (P_v(n) + P_v(n+1)) : Vs / 2, P_v = v T_v G^T (minus the
   /// viscous corner forces), Vs the corner velocities relative to corner 0: exactly the work
-  /// the viscous forces do in the central-difference step, per dt. Returns the
-  /// index of the first element with J <= 0 or NaN, or -1 if none.
-  vtkIdType compute(const Grid& grid);
+  /// the viscous forces do in the central-difference step, per dt; dt x that power is added
+  /// to the element's viscous work (one running sum per element: the same bits for any
+  /// thread or rank count; dt = 0 adds nothing). Returns the index of the first element with
+  /// J <= 0 or NaN, or -1 if none.
+  vtkIdType compute(const Grid& grid, double dt = 0.0);
 
   /// The two halves of compute(): the element loop (stress, element forces and the nodal
-  /// sums of all nodes but the straddling ones, viscous power), then the straddling nodes'
-  /// sums.
-  vtkIdType compute_elements(const Grid& grid);
+  /// sums of all nodes but the straddling ones, viscous power and work), then the straddling
+  /// nodes' sums.
+  vtkIdType compute_elements(const Grid& grid, double dt);
   void assemble(const Grid& grid);
 
   /// T_el carries (1 - Omega) (B.4): when Omega of element e changes, its elastic stress and
@@ -120,9 +122,12 @@ class ForceAssembler {
   /// Nodal element forces, 3 per point, from the last compute() (and any gather since).
   const std::vector<double>& nodal_forces() const { return force_; }
 
-  /// Adds dt x its viscous power to every element's viscous work (one running sum per
-  /// element: the same bits for any thread or rank count).
-  void accumulate_viscous_work(const Grid& grid, double dt);
+  /// Whether the element loop writes its per-element results (stress, volume, bound, alpha1,
+  /// power) with non-temporal stores: chosen at construction, on when the mesh's per-step
+  /// data is several times the L3 (a store then costs no read for ownership; a mesh that
+  /// fits keeps them in cache for the damage and fracture passes). The values are the same.
+  bool streaming() const { return stream_; }
+  void set_streaming(bool on) { stream_ = on; }
   /// The elements' viscous work so far (of those with counted[e] != 0, if given), summed
   /// exactly (solver/exact_sum.hpp).
   ExactSum viscous_work(const Grid& grid, const std::uint8_t* counted) const;
@@ -186,6 +191,7 @@ class ForceAssembler {
   };
 
   const Grid* grid_;
+  bool stream_ = false;
   double K_, mu_;
   std::vector<Block> blocks_;
   std::vector<double> force_;           // 3 per point: the gathered nodal forces

@@ -114,7 +114,7 @@ vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {
       }
   }
   if (halo_) halo_->exchange(x, v);  // ghosts: x(n+1) and the rate the viscosity sees
-  vtkIdType bad = forces_.compute_elements(grid_);
+  vtkIdType bad = forces_.compute_elements(grid_, dt);  // and the viscous work of the step
   if (halo_) {  // the same verdict on every rank, naming the global cell
     constexpr long none = std::numeric_limits<long>::max();
     const long mine = bad >= 0 ? static_cast<long>(halo_->global_cell()[bad]) : none;
@@ -144,7 +144,6 @@ StepReport Integrator::step(double t, double dt) {
   if (r.bad_element >= 0) return r;
   // A decomposed run counts the cells it owns (the ghost cells are counted by their owners).
   const std::uint8_t* counted = halo_ ? halo_->owned_cells().data() : nullptr;
-  forces_.accumulate_viscous_work(grid_, dt);
   if (damage_.enabled())  // Omega(n+1) (5.2)-(5.3); F(n+1) brought to it
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt, counted);
   clock.lap(times_.damage);

@@ -5,8 +5,12 @@
 //   Elastic         elastic + viscous step only (fracture off): the element kernel's rate
 //   Straight        the paper's straight-crack run at 0.9 sigma_c (fracture scan each step)
 //   BranchingDamage branching + damage at 0.9 sigma_c: splits, links and damage as they come
+//   Stream          STREAM-like copy and triad over 512 MB arrays: the memory bandwidth the
+//                   step's bytes per tet-update are read against (bytes_per_second counts
+//                   reads and writes, not the write-allocate)
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -70,9 +74,26 @@ void BM_Kernel(benchmark::State& state, std::vector<std::string> files, bool ass
     if (assembly)
       forces.assemble(sim.grid());
     else
-      benchmark::DoNotOptimize(forces.compute_elements(sim.grid()));
+      benchmark::DoNotOptimize(forces.compute_elements(sim.grid(), 0.0));
   }
   state.SetItemsProcessed(state.iterations() * sim.grid().num_cells());
+}
+
+/// a[i] = b[i] (copy, 16 B per element moved) or a[i] = b[i] + s c[i] (triad, 24 B), over
+/// arrays far larger than the L3; threads take fixed halves.
+void BM_Stream(benchmark::State& state, bool triad) {
+  const std::size_t n = std::size_t{1} << 26;  // 512 MB per array
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  const int threads = static_cast<int>(state.range(0));
+  const double s = 3.0;
+  for (auto _ : state) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::size_t i = 0; i < n; ++i) a[i] = triad ? b[i] + s * c[i] : b[i];
+    benchmark::DoNotOptimize(a.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(n * sizeof(double) * (triad ? 3 : 2)));
 }
 
 using V = std::vector<std::string>;
@@ -81,6 +102,8 @@ const V kNoFracture{"fracture.mode=none"};
 // h = 100 um, 5 layers: 1,776,150 tets.
 const V kLarge{"fracture.mode=none", "mesh.size=100e-6", "mesh.band=0", "mesh.layers=5"};
 
+BENCHMARK_CAPTURE(BM_Stream, Copy, false)->Arg(1)->Arg(2)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(BM_Stream, Triad, true)->Arg(1)->Arg(2)->UseRealTime()->MinTime(1.0);
 BENCHMARK_CAPTURE(BM_Kernel, ElementLoop_CM, V{"cm.ini"}, false)
     ->Arg(1)->Arg(2)->UseRealTime()->MinTime(1.0);
 BENCHMARK_CAPTURE(BM_Kernel, Assembly_CM, V{"cm.ini"}, true)

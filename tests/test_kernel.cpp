@@ -95,8 +95,9 @@ TEST(Kernel, BlockedEqualsReferenceOnRandomDeformations) {
 
 /// The element loop adds the corner forces into the nodal sums as it goes (and sums the nodes
 /// that straddle two threads' ranges after it); the element buffer is filled on demand by
-/// recompute_block. For 1, 2 and 3 threads, every node's force must be bitwise the sum of
-/// its corner forces in cell order, from zero, and the same for every thread count.
+/// recompute_block. For 1, 2 and 3 threads, with and without the streaming stores, every
+/// node's force must be bitwise the sum of its corner forces in cell order, from zero, and
+/// the same for every thread count; the stress too.
 TEST(Kernel, NodalSumsAreCellOrderSumsForAnyThreadCount) {
   Scene s;
   s.loading.sigma_over_sigmac = 0.5;
@@ -107,18 +108,25 @@ TEST(Kernel, NodalSumsAreCellOrderSumsForAnyThreadCount) {
   std::mt19937_64 rng(20261202);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), omega(0.0, 0.9);
   const int threads = omp_get_max_threads();
-  std::vector<double> first;
+  std::vector<double> first, first_stress;
   for (int round = 0; round < 2; ++round) {  // the second round has a P_v from the first
     for (vtkIdType i = 0; i < 3 * g.num_points(); ++i) {
       g.x()[i] = g.X()[i] + 0.02 * 0.4e-3 * unit(rng);
       g.v()[i] = 20.0 * unit(rng);
     }
     for (vtkIdType e = 0; e < g.num_cells(); ++e) g.damage()[e] = omega(rng);
-    for (int t : {1, 2, 3}) {
+    for (int run = 0; run < 6; ++run) {
+      const int t = 1 + run / 2;
       omp_set_num_threads(t);
+      sim.forces().set_streaming(run % 2 == 1);
       ASSERT_LT(sim.forces().compute(g), 0);
       const std::vector<double> f = sim.forces().nodal_forces();
-      if (t == 1) first = f;
+      std::vector<double> stress(g.stress(), g.stress() + 6 * g.num_cells());
+      for (const double* a : {sim.forces().volumes(), sim.forces().sigma1_bound(),
+                              sim.forces().alpha1()})
+        stress.insert(stress.end(), a, a + g.num_cells());  // and the streamed per-element values
+      if (run == 0) first = f, first_stress = stress;
+      ASSERT_EQ(stress, first_stress) << t << " threads, streaming " << run % 2;
       ForceAssembler& fa = sim.forces();
       for (vtkIdType p = 0; p < g.num_points(); ++p) {
         double sum[3] = {0, 0, 0};
