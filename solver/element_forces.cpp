@@ -420,6 +420,9 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
   const int ranges = omp_get_max_threads();
   if (ranges != ranges_) partition(ranges);
   std::fill(stored_.begin(), stored_.end(), 0);
+  hot_.resize(ranges);
+  for (std::vector<vtkIdType>& cells : hot_) cells.clear();
+  const double hot_threshold = hot_threshold_;
   force_.resize(3 * np);
   double* f = force_.data();
   const std::uint8_t* straddles = straddles_.data();
@@ -514,6 +517,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
             first_bad = std::min(first_bad, e);
             continue;
           }
+          if (bound_out[l] >= hot_threshold) hot_[range].push_back(e);
           const double s6[6] = {r.s[0][l], r.s[1][l], r.s[2][l], r.s[3][l], r.s[4][l], r.s[5][l]};
           store_stress(stress + 6 * e, s6, stream);
           for (int c = 0; c < 4; ++c) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "exact_sum.hpp"
@@ -148,6 +149,18 @@ class ForceAssembler {
   /// it gives the strain energy without recomputing F.
   const double* alpha1() const { return alpha1_.data(); }
 
+  /// The cells whose sigma1 bound reached `threshold` at the last compute(), ascending (none
+  /// while the threshold is infinite, the default): the split scan's superset of the cells
+  /// that can break a node (Fracture::candidates), found in the element loop instead of a
+  /// serial pass over every cell.
+  void set_hot_threshold(double threshold) { hot_threshold_ = threshold; }
+  bool collects_hot_cells() const { return hot_threshold_ < std::numeric_limits<double>::infinity(); }
+  template <class F>
+  void for_each_hot_cell(F&& visit) const {
+    for (const std::vector<vtkIdType>& cells : hot_)
+      for (vtkIdType e : cells) visit(e);
+  }
+
   /// P_v of element e from the last compute(), as ElementUpdate::P_v (for tests).
   void viscous_stress_power(vtkIdType e, double P_v[9]) const;
 
@@ -209,6 +222,8 @@ class ForceAssembler {
   std::vector<std::uint8_t> straddles_;        // per node: its cells lie in two ranges
   std::vector<std::uint8_t> block_straddles_;  // per block: holds a straddling node's corner
   std::vector<vtkIdType> straddling_;          // the straddling nodes
+  double hot_threshold_ = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<vtkIdType>> hot_;    // per range: its hot cells, ascending
 };
 
 }  // namespace brittle

@@ -72,6 +72,13 @@ const double* Fracture::strengths(const Grid& grid) const {
   return node_strength_.data();
 }
 
+double Fracture::hot_threshold(const Grid& grid) const {
+  if (mode_ != FractureParams::Mode::branching) return std::numeric_limits<double>::infinity();
+  const double* own = strengths(grid);
+  if (!own) return sigma_c_;  // (candidates() adds its 1e-9 margin above this)
+  return *std::min_element(own, own + grid.num_points());
+}
+
 bool Fracture::may_break(const Grid& grid, vtkIdType p) const {
   if (region_.empty()) return true;
   const double x = grid.X()[3 * p], y = grid.X()[3 * p + 1];
@@ -98,19 +105,26 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   // split. Straight mode has its few plane nodes; elsewhere they are found from the elements.
   if (!straight) {
     const vtkIdType* cells = grid.cells();
-    hot_.assign(grid.num_points(), 0);
-    for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    hot_.resize(grid.num_points(), 0);
+    for (vtkIdType p : hot_nodes_) hot_[p] = 0;  // last step's marks
+    hot_nodes_.clear();
+    auto visit = [&](vtkIdType e) {
       const vtkIdType* corner = cells + 4 * e;
       const double weakest =
           own ? std::min(std::min(strength_of(corner[0]), strength_of(corner[1])),
                          std::min(strength_of(corner[2]), strength_of(corner[3])))
               : sigma_c;
       if (bound[e] >= weakest)
-        for (int k = 0; k < 4; ++k) hot_[corner[k]] = 1;
-    }
-    hot_nodes_.clear();
-    for (vtkIdType p = 0; p < grid.num_points(); ++p)
-      if (hot_[p]) hot_nodes_.push_back(p);
+        for (int k = 0; k < 4; ++k)
+          if (!hot_[corner[k]]) hot_[corner[k]] = 1, hot_nodes_.push_back(corner[k]);
+    };
+    // The element loop listed the cells whose bound reached the weakest strength of the
+    // grid (hot_threshold): a superset of those visited here (damage only lowers bounds).
+    if (forces.collects_hot_cells())
+      forces.for_each_hot_cell(visit);
+    else
+      for (vtkIdType e = 0; e < grid.num_cells(); ++e) visit(e);
+    std::sort(hot_nodes_.begin(), hot_nodes_.end());
   }
   const std::vector<vtkIdType>& nodes = straight ? plane_nodes_ : hot_nodes_;
   const vtkIdType count = static_cast<vtkIdType>(nodes.size());

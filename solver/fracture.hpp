@@ -39,6 +39,11 @@ class Fracture {
   /// splitting order: decreasing sigma1, ties by node id.
   std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces) const;
 
+  /// The smallest strength a node of the grid has (sigma_c, or the weakest Weibull strength):
+  /// the element loop lists the cells whose bound reaches it (ForceAssembler::
+  /// set_hot_threshold). Infinite unless the mode is branching (straight scans its plane).
+  double hot_threshold(const Grid& grid) const;
+
   /// Splits the candidates in order (SPEC 5): plane through the node normal to the
   /// candidate's direction; cells whose current centroid lies on its + side adopt a new node.
   /// Makes the link of each split (2.6) and cuts the links the node held (Appendix A). Then

@@ -108,6 +108,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                 " s (run.cfl = ", scene.run.cfl, ", element ", stable.element, ", damping ratio ",
                 stable.xi, ") needs ", steps, " steps, more than ", kMaxSteps,
                 " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
+  assembler_.set_hot_threshold(fracture_.hot_threshold(grid_));  // the split scan's cells
   const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
   // The plate's outline for the cut-through check: a rank's part of a decomposed run carries
