@@ -11,12 +11,14 @@
 #include <cerrno>
 #include <csignal>
 #include <filesystem>
+#include <cstdio>
 #include <map>
 #include <thread>
 
 #include "error.hpp"
 #include "parallel.hpp"
 #include "paths.hpp"
+#include "run_lock.hpp"
 #include "stop_signal.hpp"
 
 extern char** environ;
@@ -72,7 +74,7 @@ pid_t spawn(const std::string& exe, const std::vector<std::string>& args, const 
 
 }  // namespace
 
-std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs) {
+std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs) {
   const std::string exe = self_executable();
   if (jobs <= 0) jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   // This rank's share, in order.
@@ -91,10 +93,17 @@ std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs) {
     }
     while (!stop && next < mine.size() && static_cast<int>(running.size()) < jobs) {
       const ChildRun& run = runs[mine[next]];
-      fs::create_directories(run.directory);
-      fs::remove(run.directory + "/summary.json");
-      running[spawn(exe, run.args, run.directory + "/run.log")] = mine[next];
-      started[mine[next]] = 1;
+      try {
+        // Prepared under the directory's lock, held until the child has started (it waits for
+        // its parent's lock, RunLock): nothing is touched in a directory a live run holds.
+        const RunLock lock(run.directory);
+        fs::remove(run.directory + "/summary.json");
+        running[spawn(exe, run.args, run.directory + "/run.log")] = mine[next];
+        started[mine[next]] = static_cast<int>(ChildStart::started);
+      } catch (const DirectoryHeld& e) {
+        std::fprintf(stderr, "brittle: not started: %s\n", e.what());
+        started[mine[next]] = static_cast<int>(ChildStart::held);
+      }
       ++next;
     }
     if (running.empty()) break;
@@ -104,8 +113,10 @@ std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs) {
     BRITTLE_CHECK(pid > 0, "waiting for the runs failed");
     running.erase(pid);
   }
-  mpi_max(started);  // every rank learns what was started anywhere
-  return std::vector<bool>(started.begin(), started.end());
+  mpi_max(started);  // every rank learns what became of each run (one rank had it)
+  std::vector<ChildStart> outcome;
+  for (const int s : started) outcome.push_back(static_cast<ChildStart>(s));
+  return outcome;
 }
 
 }  // namespace brittle

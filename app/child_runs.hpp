@@ -15,17 +15,23 @@ struct ChildRun {
   std::string directory;
 };
 
+/// What became of a child run: not started (a stop request came first), started, or not
+/// started because a live run holds its directory (run_lock.hpp; nothing in it was touched).
+enum class ChildStart { stopped = 0, started = 1, held = 2 };
+
 /// Runs `brittle` (this executable) once per entry, at most `jobs` at a time (0 = number of
-/// cores), in order. Each directory is created and a stale summary.json removed first, so a
-/// run that fails before writing one cannot be read as finished. A stop request
+/// cores), in order. Each directory is created and a stale summary.json removed first, under
+/// the directory's lock (held until the child is spawned), so a run that fails before writing
+/// one cannot be read as finished; a directory a live run holds is left alone (a line on
+/// stderr, ChildStart::held). A stop request
 /// (stop_signal.hpp) is passed on once to the running children, which stop with a checkpoint,
 /// and no more are started.
 ///
 /// Under mpirun with N ranks (parallel.hpp) every rank calls this with the same list: rank r
 /// runs the entries r, r + N, r + 2N, ... (`jobs` at a time on its node), the children get an
 /// environment without the MPI launcher's variables (each is a plain single-process run), and
-/// all ranks wait for each other at the end. Returns, per entry, whether it was started (on
-/// any rank).
-std::vector<bool> run_children(const std::vector<ChildRun>& runs, int jobs);
+/// all ranks wait for each other at the end. Returns, per entry, what became of it (on any
+/// rank).
+std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs);
 
 }  // namespace brittle

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <cstdlib>
@@ -32,6 +33,7 @@
 #include "output.hpp"
 #include "partition.hpp"
 #include "plate_mesh.hpp"
+#include "run_lock.hpp"
 #include "scene_options.hpp"
 
 namespace brittle {
@@ -148,6 +150,14 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   begin_decomposed_run();
   scene.resolved = scene_entries(scene);
   check_decomposable(scene);  // the same scene on every rank: the same verdict
+  // Rank 0 takes the directory's lock for the whole run, before any rank writes: at once when
+  // the directory exists, else when it is made (as run_scene); a refusal reaches every rank
+  // (on_every_rank), so none goes on.
+  std::optional<RunLock> lock;
+  const std::string& dir = scene.output.directory;
+  on_every_rank([&] {
+    if (rank == 0 && std::filesystem::is_directory(dir)) lock.emplace(dir);
+  });
   auto mesh = shared_mesh(scene);
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<Halo> halo;
@@ -166,7 +176,9 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   }
   sim->decompose(*halo);
   sim->set_stop_flag(stop);
-  const std::string& dir = scene.output.directory;
+  on_every_rank([&] {
+    if (rank == 0 && !lock) lock.emplace(dir);
+  });
   std::vector<std::unique_ptr<Observer>> writers;
   on_every_rank([&] {
     std::filesystem::create_directories(dir);

@@ -45,8 +45,9 @@ void begin_decomposed_run();
 /// steps its part (solver/halo.hpp) and writes its piece of every frame; rank 0 writes
 /// energies.csv, crack_tip.csv, events.csv, pattern.json, summary.json and the .pvtu/.pvd
 /// series. Refused with one line, before anything is written: sensors, render.times,
-/// checkpoints and physical-group regions (not built for decomposed runs yet). `extra`
-/// observers (progress) run on rank 0.
+/// checkpoints and physical-group regions (not built for decomposed runs yet). Rank 0 holds
+/// the directory's lock (run_lock.hpp) for the run; a refusal ends every rank before any
+/// writes. `extra` observers (progress) run on rank 0.
 RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
                           const std::atomic<int>* stop);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "checkpoint.hpp"
 #include "error.hpp"
@@ -11,6 +12,7 @@
 #include "scene_options.hpp"
 #include "plate_mesh.hpp"
 #include "render_commands.hpp"
+#include "run_lock.hpp"
 
 namespace brittle {
 
@@ -49,8 +51,14 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
                      const std::atomic<int>* stop) {
   scene.resolved = scene_entries(scene);
+  // An existing directory is locked at once: one a live run holds is refused before the mesh.
+  // A new one is made, and locked, once the mesh and the Simulation have passed their checks,
+  // as before the lock: a refused scene leaves no directory behind.
+  std::optional<RunLock> lock;
+  if (std::filesystem::is_directory(scene.output.directory)) lock.emplace(scene.output.directory);
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
+  if (!lock) lock.emplace(scene.output.directory);  // held until the run has ended
   return run_simulation(sim, extra, stop);
 }
 
@@ -65,6 +73,7 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
                   "--resume: --set ", o, " changes the run (expected only run.end_time, "
                   "run.threads or output.checkpoint_interval; other keys stay the checkpoint's)");
   }
+  const RunLock lock(directory);  // before anything is written, until the end
   std::vector<std::string> files, sets;
   for (const std::string& s : header.sources)
     (s.starts_with("--set ") ? sets : files).push_back(s.starts_with("--set ") ? s.substr(6) : s);

@@ -18,6 +18,9 @@ namespace brittle {
 /// render.times is set (its times become frames too), and runs with `extra` observers after
 /// them. Returns the summary; a run that fails throws brittle::Error after every observer has
 /// had on_finish (summary.json then says why).
+/// The directory's lock (run_lock.hpp) is held until the run ends, taken before the mesh when
+/// the directory exists (else when it is made, after the mesh and Simulation checks): a
+/// directory a live run holds is refused (DirectoryHeld) with nothing in it touched.
 /// With `stop`, the run polls it after every step (Simulation::set_stop_flag): status
 /// "interrupted", a checkpoint and a last frame when it turns non-zero.
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {},
@@ -26,7 +29,8 @@ RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {},
 /// `brittle run --resume DIR`: the scene from the checkpoint's sources (files re-read, --set
 /// replayed) plus `overrides`, which may only set run.end_time, run.threads and
 /// output.checkpoint_interval; the mesh and Simulation as run_scene, then the state of
-/// DIR/checkpoint.bin, and the run goes on into DIR (docs/checkpoint.md).
+/// DIR/checkpoint.bin, and the run goes on into DIR (docs/checkpoint.md). It takes DIR's lock as
+/// run_scene does; a stale one (its run was killed) does not stop it.
 RunSummary resume_run(const std::string& directory, const std::vector<std::string>& overrides,
                       const std::vector<Observer*>& extra = {},
                       const std::atomic<int>* stop = nullptr);

@@ -463,9 +463,12 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
       child_of.push_back(i);
     }
   }
-  const std::vector<bool> started = run_children(children, o.jobs);
-  for (std::size_t c = 0; c < children.size(); ++c)
-    if (started[c]) ready[child_of[c]] = true;
+  const std::vector<ChildStart> started = run_children(children, o.jobs);
+  std::vector<bool> held(plan.size(), false);  // another run holds its directory
+  for (std::size_t c = 0; c < children.size(); ++c) {
+    if (started[c] == ChildStart::started) ready[child_of[c]] = true;
+    if (started[c] == ChildStart::held) held[child_of[c]] = true;
+  }
   std::vector<MeshStudyRow> rows;
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const std::string& label = cases[plan[i].case_index].label;
@@ -474,7 +477,9 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
     } else {
       MeshStudyRow r;
       r.label = label, r.size = plan[i].size, r.layers = plan[i].layers;
-      r.status = "not started: the study was stopped";
+      r.status = held[i] ? "not started: another run holds " + plan[i].child.directory +
+                               " (run.lock)"
+                         : "not started: the study was stopped";
       r.directory = plan[i].child.directory;
       rows.push_back(r);
     }

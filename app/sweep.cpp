@@ -177,16 +177,20 @@ std::vector<SweepPoint> run_sweep(const SweepOptions& o) {
     runs.push_back(std::move(run));
   }
   fs::create_directories(o.out);
-  const std::vector<bool> started = run_children(runs, o.jobs);
+  const std::vector<ChildStart> started = run_children(runs, o.jobs);
   std::vector<SweepPoint> points;
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    if (started[i]) {
+    if (started[i] == ChildStart::started) {
       points.push_back(read_run(runs[i].directory));
       if (std::isnan(points.back().load)) points.back().load = o.loads[i];  // no summary
     } else {
       SweepPoint p;
       p.load = o.loads[i];
       p.status = "not started: the sweep was stopped";
+      if (started[i] == ChildStart::held) {
+        p.status = "not started: another run holds " + runs[i].directory + " (run.lock)";
+        p.directory = runs[i].directory;
+      }
       points.push_back(p);
     }
   }
