@@ -238,7 +238,9 @@ TEST(RunLock, ASweepSkipsAHeldDirectoryAndHandsTheOthersToItsRuns) {
 
 #ifdef BRITTLE_MPIEXEC
 // Under mpirun rank 0 takes the lock; its refusal ends every rank, one line, nothing written.
-TEST(RunLock, ADecomposedRunIntoAHeldDirectoryIsRefusedOnEveryRank) {
+// (Suite Mpi: like the other MPI tests it is left out of the sanitized run, where Open MPI's
+// leaks at exit turn the exit code into 1.)
+TEST(Mpi, RunIntoAHeldDirectoryIsRefusedOnEveryRank) {
   TempDir dir;
   fill_like_a_run(dir, "run");
   const fs::path run = dir / "run";
