@@ -93,6 +93,7 @@ void CohesiveLinks::add(CohesiveLink link, vtkIdType num_points) {
   mark_linked(link.a);
   mark_linked(link.b);
   links_.push_back(std::move(link));
+  groups_ready_ = false;
 }
 
 void CohesiveLinks::mark_linked(vtkIdType p) {
@@ -108,14 +109,68 @@ void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double 
     if (links_[i].a == old_node || links_[i].b == old_node)
       links_.push_back(split_link(links_[i], old_node, new_node, m1, m2, new_cells, law_));
   if (links_.size() == held) return;
+  groups_ready_ = false;
   linked_.resize(num_points, 0);
   mark_linked(new_node);  // the other ends held links already
 }
 
-int CohesiveLinks::substeps_needed(const Grid& grid, double dt) const {
+std::size_t CohesiveLinks::update_groups() {
+  if (groups_ready_) return group_link_start_.empty() ? 0 : group_link_start_.size() - 1;
+  // Union-find over the linked nodes (by node id; only linked nodes' entries are used), then
+  // the groups numbered in the order of their first link; links and nodes stay ascending in
+  // each.
+  const std::size_t n = linked_nodes_.size(), L = links_.size();
+  scratch_.resize(2 * linked_.size() + L);
+  std::uint32_t *parent = scratch_.data(), *label = parent + linked_.size(),
+                *link_group = label + linked_.size();
+  for (vtkIdType p : linked_nodes_) parent[p] = static_cast<std::uint32_t>(p), label[p] = ~0u;
+  const auto root = [parent](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const CohesiveLink& l : links_) {
+    const std::uint32_t ra = root(static_cast<std::uint32_t>(l.a)),
+                        rb = root(static_cast<std::uint32_t>(l.b));
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  std::uint32_t groups = 0;
+  for (std::size_t i = 0; i < L; ++i) {
+    const std::uint32_t r = root(static_cast<std::uint32_t>(links_[i].a));
+    if (label[r] == ~0u) label[r] = groups++;
+    link_group[i] = label[r];
+  }
+  for (vtkIdType p : linked_nodes_) {  // (a node that holds no link drifts on its own)
+    const std::uint32_t r = root(static_cast<std::uint32_t>(p));
+    if (label[r] == ~0u) label[r] = groups++;
+  }
+  const auto node_group = [&](std::size_t i) {
+    return label[root(static_cast<std::uint32_t>(linked_nodes_[i]))];
+  };
+  // Counting sorts by group, stable.
+  group_link_start_.assign(groups + 1, 0);
+  group_node_start_.assign(groups + 1, 0);
+  for (std::size_t i = 0; i < L; ++i) ++group_link_start_[link_group[i] + 1];
+  for (std::size_t i = 0; i < n; ++i) ++group_node_start_[node_group(i) + 1];
+  for (std::uint32_t g = 0; g < groups; ++g) {
+    group_link_start_[g + 1] += group_link_start_[g];
+    group_node_start_[g + 1] += group_node_start_[g];
+  }
+  group_links_.resize(L);
+  group_nodes_.resize(n);
+  std::vector<std::uint32_t> next_link(group_link_start_.begin(), group_link_start_.end() - 1),
+      next_node(group_node_start_.begin(), group_node_start_.end() - 1);
+  for (std::size_t i = 0; i < L; ++i)
+    group_links_[next_link[link_group[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < n; ++i) group_nodes_[next_node[node_group(i)]++] = linked_nodes_[i];
+  groups_ready_ = true;
+  return groups;
+}
+
+int CohesiveLinks::substeps_needed(const Grid& grid, double dt, std::size_t g) const {
   const double* m = grid.mass();
   double needed = 1;
-  for (const CohesiveLink& l : links_) {
+  for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+    const CohesiveLink& l = links_[group_links_[j]];
     if (l.delta_c <= 0 || l.broken()) continue;
     const double k = l.f0 * (1 - l.omega) / std::max(l.delta_max, 1e-3 * l.delta_c);
     const double m_red = m[l.a] * m[l.b] / (m[l.a] + m[l.b]);
@@ -124,6 +179,13 @@ int CohesiveLinks::substeps_needed(const Grid& grid, double dt) const {
   }
   // (a NaN or huge need is reported as "more than the cap")
   return needed < 1e6 ? static_cast<int>(std::ceil(needed)) : 1000000;
+}
+
+int CohesiveLinks::substeps_needed(const Grid& grid, double dt) {
+  int needed = 1;
+  const std::size_t groups = update_groups();
+  for (std::size_t g = 0; g < groups; ++g) needed = std::max(needed, substeps_needed(grid, dt, g));
+  return needed;
 }
 
 namespace {
@@ -139,20 +201,21 @@ inline void link_impulse(const CohesiveLink& l, const double* m, double tau, con
 }
 }  // namespace
 
-void CohesiveLinks::prepare_kick(const Grid& grid, double tau) {
+void CohesiveLinks::prepare_kick(const Grid& grid, double tau, std::size_t g) {
   const double *x = grid.x(), *m = grid.mass();
-  impulse_.resize(6 * links_.size());
-  for (std::size_t i = 0; i < links_.size(); ++i) {
+  for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+    const std::uint32_t i = group_links_[j];
     const CohesiveLink& l = links_[i];
     const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
     link_impulse(l, m, tau, d, d.norm(), impulse_.data() + 6 * i);
   }
 }
 
-void CohesiveLinks::advance_law_and_prepare_kick(const Grid& grid, double substep, double tau) {
+void CohesiveLinks::advance_law_and_prepare_kick(const Grid& grid, double substep, double tau,
+                                                 std::size_t g) {
   const double *x = grid.x(), *m = grid.mass();
-  impulse_.resize(6 * links_.size());
-  for (std::size_t i = 0; i < links_.size(); ++i) {
+  for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+    const std::uint32_t i = group_links_[j];
     CohesiveLink& l = links_[i];
     const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
     const double delta = d.norm();
@@ -161,9 +224,10 @@ void CohesiveLinks::advance_law_and_prepare_kick(const Grid& grid, double subste
   }
 }
 
-void CohesiveLinks::apply_kick(Grid& grid) const {
+void CohesiveLinks::apply_kick(Grid& grid, std::size_t g) const {
   double* v = grid.v();
-  for (std::size_t i = 0; i < links_.size(); ++i) {
+  for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+    const std::uint32_t i = group_links_[j];
     const CohesiveLink& l = links_[i];
     const double* dv = impulse_.data() + 6 * i;
     for (int k = 0; k < 3; ++k) {
@@ -175,6 +239,7 @@ void CohesiveLinks::apply_kick(Grid& grid) const {
 
 void CohesiveLinks::begin_step() {
   delta_start_.resize(links_.size());
+  impulse_.resize(6 * links_.size());
   for (std::size_t i = 0; i < links_.size(); ++i) delta_start_[i] = links_[i].delta;
 }
 
@@ -194,6 +259,7 @@ std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
 }
 
 void CohesiveLinks::refresh_linked(vtkIdType num_points) {
+  groups_ready_ = false;
   for (vtkIdType p : linked_nodes_) linked_[p] = 0;
   linked_.resize(num_points, 0);
   linked_nodes_.clear();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <vtkType.h>
@@ -74,7 +75,10 @@ class CohesiveLinks {
 
   const CohesiveLaw& law() const { return law_; }
   const std::vector<CohesiveLink>& links() const { return links_; }
-  std::vector<CohesiveLink>& links() { return links_; }  ///< (tests; topology via add/cut)
+  std::vector<CohesiveLink>& links() {  ///< (tests; topology via add/cut)
+    groups_ready_ = false;
+    return links_;
+  }
   bool empty() const { return links_.empty(); }
   /// 1 for nodes that hold a link (they drift in the links' sub-steps, not in the plain drift).
   const std::vector<std::uint8_t>& linked() const { return linked_; }
@@ -91,25 +95,40 @@ class CohesiveLinks {
   void cut_links_of(vtkIdType old_node, vtkIdType new_node, double m1, double m2,
                     const std::vector<vtkIdType>& new_cells, vtkIdType num_points);
 
-  /// Sub-steps the links need over an element step dt: every link spring k = f0 (1 - omega) /
-  /// delta_max (delta_max taken at least 1e-3 delta_c) turns at most 0.5 rad per sub-step, and
-  /// every link opens by at most 2 % of delta_c per sub-step at last step's rate. At least 1;
-  /// may exceed max_substeps (the caller caps it and says so).
-  int substeps_needed(const Grid& grid, double dt) const;
+  /// The links fall into groups joined by shared nodes (the daughters and granddaughters of
+  /// one original node, Appendix A; a group's links are all on the rank that owns that node).
+  /// Groups share no node, so each is sub-stepped on its own, with its own N, and groups may
+  /// run on different threads. Builds the groups if the links changed; returns their number.
+  std::size_t update_groups();
+  /// The nodes of group g (after update_groups), ascending.
+  std::span<const vtkIdType> group_nodes(std::size_t g) const {
+    return {group_nodes_.data() + group_node_start_[g],
+            group_nodes_.data() + group_node_start_[g + 1]};
+  }
+
+  /// Sub-steps the links of group g need over an element step dt: every link spring k = f0
+  /// (1 - omega) / delta_max (delta_max taken at least 1e-3 delta_c) turns at most 0.5 rad per
+  /// sub-step, and every link opens by at most 2 % of delta_c per sub-step at last step's rate.
+  /// At least 1; may exceed max_substeps (the caller caps it and says so).
+  int substeps_needed(const Grid& grid, double dt, std::size_t g) const;
+  /// The largest need over every group.
+  int substeps_needed(const Grid& grid, double dt);
   static constexpr int max_substeps = 256;
 
-  /// A kick over tau (2.7): a by +f e, b by -f e, e = (x_b - x_a) / delta, the creation
-  /// direction (2.9) while delta is round-off. In two halves: the velocity changes at the
-  /// current positions (prepare_kick, or advance_law_and_prepare_kick, which first moves
-  /// every link's law to the current openings over a sub-step, advance_link, in the same
-  /// pass), then their application (apply_kick, which may be repeated while positions and
-  /// law stand still).
-  void prepare_kick(const Grid& grid, double tau);
-  void advance_law_and_prepare_kick(const Grid& grid, double substep, double tau);
-  void apply_kick(Grid& grid) const;
+  /// A kick over tau (2.7) by the links of group g: a by +f e, b by -f e, e = (x_b - x_a) /
+  /// delta, the creation direction (2.9) while delta is round-off. In two halves: the velocity
+  /// changes at the current positions (prepare_kick, or advance_law_and_prepare_kick, which
+  /// first moves every link's law to the current openings over a sub-step, advance_link, in
+  /// the same pass), then their application (apply_kick, which may be repeated while
+  /// positions and law stand still). Groups share nothing: different groups may be kicked
+  /// at once.
+  void prepare_kick(const Grid& grid, double tau, std::size_t g);
+  void advance_law_and_prepare_kick(const Grid& grid, double substep, double tau, std::size_t g);
+  void apply_kick(Grid& grid, std::size_t g) const;
 
-  /// Remembers the openings at the start of an element step / sets the opening rates over
-  /// it (used by substeps_needed the next step).
+  /// Remembers the openings at the start of an element step (and makes room for the kicks;
+  /// after update_groups) / sets the opening rates over it (used by substeps_needed the next
+  /// step).
   void begin_step();
   void end_step(double dt);
 
@@ -140,6 +159,11 @@ class CohesiveLinks {
   std::vector<vtkIdType> linked_nodes_;
   std::vector<double> delta_start_;  // per link, at begin_step
   std::vector<double> impulse_;      // per link: the prepared kick's dv of a (3) and b (3)
+  // The groups (update_groups): their links (ascending) and nodes (ascending), CSR.
+  bool groups_ready_ = false;
+  std::vector<std::uint32_t> group_link_start_, group_links_, group_node_start_;
+  std::vector<vtkIdType> group_nodes_;
+  std::vector<std::uint32_t> scratch_;  // union-find and labels while building
   ExactSum removed_dissipated_;
   std::vector<CohesiveLink> removed_;  // by the last remove_broken (not state: cleared first)
 };

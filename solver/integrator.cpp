@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "halo.hpp"
 
@@ -62,40 +63,50 @@ void Integrator::drift_unlinked(double dt) {
 }
 
 int Integrator::advance_links(double dt, bool& capped) {
-  capped = false;
   // The weakening law unloads along f = f0 (1 - omega) delta / delta_max, a spring that no
   // element-sized step resolves while delta_max is small: the links kick inside the step
-  // at dt / N (docs/model.md). One N for every link of the grid, over all ranks.
-  int needed = links_.empty() ? 0 : links_.substeps_needed(grid_, dt);
-  if (halo_) needed = halo_->max(needed);
-  if (links_.empty()) return 0;
-  capped = needed > CohesiveLinks::max_substeps;
-  const int substeps = std::min(needed, CohesiveLinks::max_substeps);
-  const double substep = dt / substeps;
-  double* x = grid_.x();
-  const double* v = grid_.v();
-  const std::uint8_t* fixed = grid_.fixed();
-  moved_ = links_.linked_nodes();
-  const std::vector<vtkIdType>& nodes = moved_;
-  start_x_.resize(3 * nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * nodes[i] + k];
-  links_.begin_step();
-  // kick, drift, law, kick per sub-step. The closing kick of one sub-step and the opening
-  // kick of the next act at the same positions with the same law: their impulses are
-  // computed once (with the law, in one pass over the links) and applied twice, which gives
-  // the same bits as computing them twice.
-  links_.prepare_kick(grid_, 0.5 * substep);
-  for (int s = 0; s < substeps; ++s) {
-    links_.apply_kick(grid_);
-    for (vtkIdType p : nodes)
-      if (!fixed[p])
-        for (int k = 0; k < 3; ++k) x[3 * p + k] += substep * v[3 * p + k];
-    links_.advance_law_and_prepare_kick(grid_, substep, 0.5 * substep);
-    links_.apply_kick(grid_);
+  // at dt / N (docs/model.md). Each group of links joined by shared nodes takes the N its
+  // own links need, and groups, which share no node, run on any thread: the bits do not
+  // depend on the thread count. A decomposed run holds every group on one rank.
+  int most = 0;  // the largest need of a group
+  if (!links_.empty()) {
+    double* x = grid_.x();
+    const std::uint8_t* fixed = grid_.fixed();
+    moved_ = links_.linked_nodes();
+    start_x_.resize(3 * moved_.size());
+    for (std::size_t i = 0; i < moved_.size(); ++i)
+      for (int k = 0; k < 3; ++k) start_x_[3 * i + k] = x[3 * moved_[i] + k];
+    const long groups = static_cast<long>(links_.update_groups());
+    links_.begin_step();
+    CohesiveLinks& links = links_;
+    const Grid& grid = grid_;
+    const double* v = grid_.v();
+#pragma omp parallel for schedule(dynamic, 16) reduction(max : most)
+    for (long g = 0; g < groups; ++g) {
+      const int needed = links.substeps_needed(grid, dt, g);
+      const int substeps = std::min(needed, CohesiveLinks::max_substeps);
+      most = std::max(most, needed);
+      const double substep = dt / substeps;
+      const std::span<const vtkIdType> nodes = links.group_nodes(g);
+      // kick, drift, law, kick per sub-step. The closing kick of one sub-step and the opening
+      // kick of the next act at the same positions with the same law: their impulses are
+      // computed once (with the law, in one pass over the links) and applied twice, which
+      // gives the same bits as computing them twice.
+      links.prepare_kick(grid, 0.5 * substep, g);
+      for (int s = 0; s < substeps; ++s) {
+        links.apply_kick(grid_, g);
+        for (vtkIdType p : nodes)
+          if (!fixed[p])
+            for (int k = 0; k < 3; ++k) x[3 * p + k] += substep * v[3 * p + k];
+        links.advance_law_and_prepare_kick(grid, substep, 0.5 * substep, g);
+        links.apply_kick(grid_, g);
+      }
+    }
+    links_.end_step(dt);
   }
-  links_.end_step(dt);
-  return substeps;
+  if (halo_) most = halo_->max(most);  // (the report and its warning: the same on every rank)
+  capped = most > CohesiveLinks::max_substeps;
+  return std::min(most, CohesiveLinks::max_substeps);
 }
 
 vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {

@@ -381,6 +381,70 @@ TEST(Link, SubstepCapIsReported) {
   EXPECT_NE(warnings[0].find("sub-steps"), std::string::npos) << warnings[0];
 }
 
+// Each group of links (nodes joined by links) takes the sub-steps its own links need: a link
+// made too stiff for the cap elsewhere on the plate does not change, by a bit, how another
+// link's nodes move through the step (with one N for the grid it did).
+TEST(Link, EachGroupTakesItsOwnSubsteps) {
+  Scene s = fracture_scene(FractureParams::Mode::straight, 1e-6, 1e-3);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation calm(s, *mesh), stiff(s, *mesh);
+  for (Simulation* sim : {&calm, &stiff}) {
+    for (double x : {10e-3, 20e-3}) {
+      SplitCandidate c;
+      c.node = node_on_midplane(sim->grid(), x);
+      ASSERT_GE(c.node, 0);
+      ASSERT_EQ(sim->fracture().split(sim->grid(), sim->elements(), sim->forces(), {c}).size(),
+                1u);
+    }
+    ASSERT_EQ(sim->links().links().size(), 2u);
+    EXPECT_EQ(sim->links().update_groups(), 2u);
+  }
+  stiff.links().links()[1].delta_c = 1e-20;
+  calm.step();
+  stiff.step();
+  EXPECT_FALSE(calm.last_step().substeps_capped);
+  EXPECT_LT(calm.last_step().substeps, CohesiveLinks::max_substeps);
+  EXPECT_TRUE(stiff.last_step().substeps_capped);
+  const CohesiveLink& l = calm.links().links()[0];
+  ASSERT_EQ(stiff.links().links()[0].a, l.a);
+  for (vtkIdType p : {l.a, l.b})
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(calm.grid().x()[3 * p + k], stiff.grid().x()[3 * p + k]) << p << " " << k;
+  EXPECT_EQ(calm.links().links()[0].omega, stiff.links().links()[0].omega);
+}
+
+// The groups are the connected parts of the graph of links: links and nodes listed once each,
+// ascending, a link in the group of its nodes.
+TEST(Link, GroupsAreTheLinksJoinedByNodes) {
+  CohesiveLinks links(CohesiveLaw{}, 12);
+  for (auto [a, b] : std::vector<std::pair<vtkIdType, vtkIdType>>{
+           {1, 2}, {7, 9}, {3, 4}, {2, 5}, {9, 11}, {5, 1}}) {
+    CohesiveLink l;
+    l.a = a, l.b = b;
+    links.add(l, 12);
+  }
+  ASSERT_EQ(links.update_groups(), 3u);
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(0).begin(), links.group_nodes(0).end()),
+            (std::vector<vtkIdType>{1, 2, 5}));
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(1).begin(), links.group_nodes(1).end()),
+            (std::vector<vtkIdType>{7, 9, 11}));
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(2).begin(), links.group_nodes(2).end()),
+            (std::vector<vtkIdType>{3, 4}));
+  links.links()[1].omega = 1;  // 7-9 breaks: 7 leaves, 9-11 stays
+  EXPECT_EQ(links.remove_broken(12), 1u);
+  ASSERT_EQ(links.update_groups(), 3u);  // numbered by their first link
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(1).begin(), links.group_nodes(1).end()),
+            (std::vector<vtkIdType>{3, 4}));
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(2).begin(), links.group_nodes(2).end()),
+            (std::vector<vtkIdType>{9, 11}));
+  CohesiveLink joint;  // 4-11 joins the last two
+  joint.a = 4, joint.b = 11;
+  links.add(joint, 12);
+  ASSERT_EQ(links.update_groups(), 2u);
+  EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(1).begin(), links.group_nodes(1).end()),
+            (std::vector<vtkIdType>{3, 4, 9, 11}));
+}
+
 // Splits, links, sub-steps and damage keep the results independent of the thread count:
 // 1 and 2 threads give bitwise identical grids after a branching run with everything on.
 TEST(Branching, ResultsIndependentOfThreadCount) {
