@@ -201,13 +201,21 @@ inline void link_impulse(const CohesiveLink& l, const double* m, double tau, con
 }
 }  // namespace
 
-void CohesiveLinks::prepare_kick(const Grid& grid, double tau, std::size_t g) {
+void CohesiveLinks::begin_group(const Grid& grid, double tau, std::size_t g) {
   const double *x = grid.x(), *m = grid.mass();
   for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
     const std::uint32_t i = group_links_[j];
     const CohesiveLink& l = links_[i];
+    delta_start_[i] = l.delta;
     const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
     link_impulse(l, m, tau, d, d.norm(), impulse_.data() + 6 * i);
+  }
+}
+
+void CohesiveLinks::end_group(double dt, std::size_t g) {
+  for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+    CohesiveLink& l = links_[group_links_[j]];
+    l.opening_rate = std::abs(l.delta - delta_start_[group_links_[j]]) / dt;
   }
 }
 
@@ -240,12 +248,6 @@ void CohesiveLinks::apply_kick(Grid& grid, std::size_t g) const {
 void CohesiveLinks::begin_step() {
   delta_start_.resize(links_.size());
   impulse_.resize(6 * links_.size());
-  for (std::size_t i = 0; i < links_.size(); ++i) delta_start_[i] = links_[i].delta;
-}
-
-void CohesiveLinks::end_step(double dt) {
-  for (std::size_t i = 0; i < links_.size(); ++i)
-    links_[i].opening_rate = std::abs(links_[i].delta - delta_start_[i]) / dt;
 }
 
 std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
@@ -260,13 +262,12 @@ std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
 
 void CohesiveLinks::refresh_linked(vtkIdType num_points) {
   groups_ready_ = false;
+  // Links only went: the linked nodes are those of the remaining links, a subset of the
+  // (ascending) list, which is filtered in place.
   for (vtkIdType p : linked_nodes_) linked_[p] = 0;
   linked_.resize(num_points, 0);
-  linked_nodes_.clear();
-  for (const CohesiveLink& l : links_) linked_nodes_.push_back(l.a), linked_nodes_.push_back(l.b);
-  std::sort(linked_nodes_.begin(), linked_nodes_.end());
-  linked_nodes_.erase(std::unique(linked_nodes_.begin(), linked_nodes_.end()), linked_nodes_.end());
-  for (vtkIdType p : linked_nodes_) linked_[p] = 1;
+  for (const CohesiveLink& l : links_) linked_[l.a] = 1, linked_[l.b] = 1;
+  std::erase_if(linked_nodes_, [this](vtkIdType p) { return !linked_[p]; });
 }
 
 ExactSum CohesiveLinks::stored_energy_sum() const {

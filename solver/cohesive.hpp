@@ -115,22 +115,23 @@ class CohesiveLinks {
   int substeps_needed(const Grid& grid, double dt);
   static constexpr int max_substeps = 256;
 
+  /// An element step dt of the links, group by group: begin_step makes room (after
+  /// update_groups), then for each group g, begin_group remembers its links' openings and
+  /// prepares their first kick over tau; the sub-steps follow; end_group sets the opening
+  /// rates over the step (used by substeps_needed the next step). Groups share nothing:
+  /// different groups may be stepped at once.
+  void begin_step();
+  void begin_group(const Grid& grid, double tau, std::size_t g);
+  void end_group(double dt, std::size_t g);
+
   /// A kick over tau (2.7) by the links of group g: a by +f e, b by -f e, e = (x_b - x_a) /
   /// delta, the creation direction (2.9) while delta is round-off. In two halves: the velocity
-  /// changes at the current positions (prepare_kick, or advance_law_and_prepare_kick, which
+  /// changes at the current positions (begin_group, or advance_law_and_prepare_kick, which
   /// first moves every link's law to the current openings over a sub-step, advance_link, in
   /// the same pass), then their application (apply_kick, which may be repeated while
-  /// positions and law stand still). Groups share nothing: different groups may be kicked
-  /// at once.
-  void prepare_kick(const Grid& grid, double tau, std::size_t g);
+  /// positions and law stand still).
   void advance_law_and_prepare_kick(const Grid& grid, double substep, double tau, std::size_t g);
   void apply_kick(Grid& grid, std::size_t g) const;
-
-  /// Remembers the openings at the start of an element step (and makes room for the kicks;
-  /// after update_groups) / sets the opening rates over it (used by substeps_needed the next
-  /// step).
-  void begin_step();
-  void end_step(double dt);
 
   /// Removes the links whose omega reached 1; what they dissipated stays in the budget.
   /// Returns how many went; removed() lists them (in link order) until the next call.

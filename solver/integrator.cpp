@@ -7,32 +7,50 @@
 #include <limits>
 #include <span>
 
+#include <omp.h>
+
 #include "halo.hpp"
 
 namespace brittle {
 
 StableStep stable_time_step(const Grid& grid, const ElementData& el, const ElasticConstants& c,
                             double cfl) {
-  StableStep best;
-  best.dt = std::numeric_limits<double>::infinity();
+  // The first element with the smallest step, or the first whose step is NaN (to report it):
+  // each thread finds it in its range of cells, and the ranges are taken in order.
+  const auto before = [](const StableStep& a, const StableStep& b) {
+    return std::isnan(a.dt) ? !std::isnan(b.dt) : a.dt < b.dt;
+  };
+  StableStep none;
+  none.dt = std::numeric_limits<double>::infinity();
+  std::vector<StableStep> found(omp_get_max_threads(), none);  // per thread, in range order
   const double *x = grid.x(), *V0 = el.V0.data();
   const vtkIdType* cells = grid.cells();
-  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
-    const vtkIdType* n = cells + 4 * e;
-    const Vec3 p0(x + 3 * n[0]);
-    const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0,
-               d = Vec3(x + 3 * n[3]) - p0;
-    const double V = a.dot(b.cross(d)) / 6.0;
-    // The smallest altitude is 3V over the largest face area.
-    const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(), d.cross(a).norm(),
-                                        (b - a).cross(d - a).norm()});
-    const double altitude = V > 0 ? 3.0 * V / face : 0.0;
-    // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
-    const double eta_P = el.eta_dil[e] + (4.0 / 3.0) * el.eta_dev[e];
-    const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
-    const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
-    if (!(dt >= best.dt)) best = {dt, e, altitude, xi};  // also takes a NaN, to report it
+  const vtkIdType ne = grid.num_cells();
+#pragma omp parallel
+  {
+    StableStep& mine = found[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (vtkIdType e = 0; e < ne; ++e) {
+      const vtkIdType* n = cells + 4 * e;
+      const Vec3 p0(x + 3 * n[0]);
+      const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0,
+                 d = Vec3(x + 3 * n[3]) - p0;
+      const double V = a.dot(b.cross(d)) / 6.0;
+      // The smallest altitude is 3V over the largest face area.
+      const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(),
+                                          d.cross(a).norm(), (b - a).cross(d - a).norm()});
+      const double altitude = V > 0 ? 3.0 * V / face : 0.0;
+      // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
+      const double eta_P = el.eta_dil[e] + (4.0 / 3.0) * el.eta_dev[e];
+      const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
+      const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+      const StableStep here{dt, e, altitude, xi};
+      if (before(here, mine)) mine = here;
+    }
   }
+  StableStep best = none;
+  for (const StableStep& mine : found)
+    if (before(mine, best)) best = mine;
   return best;
 }
 
@@ -92,7 +110,7 @@ int Integrator::advance_links(double dt, bool& capped) {
       // kick of the next act at the same positions with the same law: their impulses are
       // computed once (with the law, in one pass over the links) and applied twice, which
       // gives the same bits as computing them twice.
-      links.prepare_kick(grid, 0.5 * substep, g);
+      links.begin_group(grid, 0.5 * substep, g);
       for (int s = 0; s < substeps; ++s) {
         links.apply_kick(grid_, g);
         for (vtkIdType p : nodes)
@@ -101,8 +119,8 @@ int Integrator::advance_links(double dt, bool& capped) {
         links.advance_law_and_prepare_kick(grid, substep, 0.5 * substep, g);
         links.apply_kick(grid_, g);
       }
+      links.end_group(dt, g);
     }
-    links_.end_step(dt);
   }
   if (halo_) most = halo_->max(most);  // (the report and its warning: the same on every rank)
   capped = most > CohesiveLinks::max_substeps;
