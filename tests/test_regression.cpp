@@ -92,14 +92,16 @@ const Pinned kPinned[] = {
      {0, 1e-12}},
     {"cm_straight_damage",
      {"cm.ini", "damage.ini"},
-     {725.8, 4.95},
+     // Speed, viscous and damage margins from the round-off ensemble too: this run ends
+     // with 81 or 82 splits as round-off falls (docs/testing.md).
+     {725.8, 10.5},
      {82, 1},
      {2.025e-5, 2.6e-7},
      {0.1101, 0.00825},
      {0.4340, 0.00555},
-     {0.3138, 0.00285},
+     {0.3138, 0.0048},
      {0.0160, 0.001},
-     {0.1259, 0.0033}},
+     {0.1259, 0.0063}},
     {"cm_branching_ri",
      {"cm.ini", "branching.ini"},
      // 1034.6 before issue 16: SPEC 5's largest split x jumped to the cracks nucleated ahead
