@@ -92,7 +92,7 @@ void Grid::state(Ar& ar) {
 
 template <class Ar>
 void ForceAssembler::state(Ar& ar) {
-  io_all(ar, blocks_, force_, viscous_power_, viscous_work_, volume_, sigma1_bound_, alpha1_,
+  io_all(ar, blocks_, force_, viscous_work_, volume_, sigma1_bound_, alpha1_,
          node_start_, node_end_, node_entries_);
   if constexpr (Ar::loading) {  // the element buffer is filled on demand (recompute_block)
     ranges_ = 0;
@@ -207,9 +207,10 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 5;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 6;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                       // 4: Weibull strength keys; 5: no element forces (the
-                                      // next step recomputes them before any use)
+                                      // next step recomputes them before any use); 6: blocks
+                                      // with h_e for the two viscosities, no viscous powers
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

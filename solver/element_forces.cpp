@@ -65,8 +65,9 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
   d.Dm_inv.resize(9 * ne);
   d.V0.resize(ne);
   d.inv_V0.resize(ne);
-  d.eta_dil.resize(ne);
-  d.eta_dev.resize(ne);
+  d.h_e.resize(ne);
+  d.eta_dil_per_h = m.zeta1 * c.rho0 * c.c_p;
+  d.eta_dev_per_h = m.zeta2 * c.rho0 * c.c_s;
   for (vtkIdType e = 0; e < ne; ++e) {
     const Mat3 Dm = edge_matrix(grid.X(), grid.cells() + 4 * e);
     const double V0 = Dm.determinant() / 6.0;
@@ -75,10 +76,7 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
     Eigen::Map<RowMat3>(d.Dm_inv.data() + 9 * e) = Dm.inverse();
     d.V0[e] = V0;
     d.inv_V0[e] = 1.0 / V0;
-    const double h_e =
-        std::cbrt(6.0 * std::sqrt(2.0) * V0);  // edge of the regular tet of volume V0
-    d.eta_dil[e] = m.zeta1 * c.rho0 * c.c_p * h_e;
-    d.eta_dev[e] = m.zeta2 * c.rho0 * c.c_s * h_e;
+    d.h_e[e] = std::cbrt(6.0 * std::sqrt(2.0) * V0);  // edge of the regular tet of volume V0
   }
   return d;
 }
@@ -111,7 +109,7 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
                                    grid.damage()[e]);  // (B.4)
   const Mat3 L = Vs * G;                               // velocity gradient
   const Mat3 D = 0.5 * (L + L.transpose());
-  const Mat3 T_v = viscous_stress(D, el.eta_dil[e], el.eta_dev[e]);  // (B.5)
+  const Mat3 T_v = viscous_stress(D, el.eta_dil(e), el.eta_dev(e));  // (B.5)
   // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3).
   const Mat3 P_v = vol * T_v * G.transpose();
   const Mat3 f = -vol * T_el * G.transpose() - P_v;
@@ -141,9 +139,10 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       stream_(larger_than_caches(grid.num_cells())),
       K_(c.K),
       mu_(c.mu),
+      eta_dil_per_h_(el.eta_dil_per_h),
+      eta_dev_per_h_(el.eta_dev_per_h),
       blocks_((grid.num_cells() + kLanes - 1) / kLanes),
       element_force_(12 * grid.num_cells(), 0.0),
-      viscous_power_(kLanes * blocks_.size(), 0.0),
       viscous_work_(kLanes * blocks_.size(), 0.0),
       volume_(kLanes * blocks_.size(), 0.0),
       sigma1_bound_(kLanes * blocks_.size(), 0.0),
@@ -157,8 +156,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       for (int k = 0; k < 9; ++k) B.Dm_inv[k][l] = el.Dm_inv[9 * e + k];
       B.V0[l] = el.V0[e];
       B.inv_V0[l] = el.inv_V0[e];
-      B.eta_dil[l] = el.eta_dil[e];
-      B.eta_dev[l] = el.eta_dev[e];
+      B.h_e[l] = el.h_e[e];
       for (int k = 0; k < 9; ++k) B.P_v[k][l] = 0.0;
     }
   }
@@ -408,11 +406,10 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
   double* ef = element_force_.data();
-  double* vp = viscous_power_.data();
   double* work = viscous_work_.data();
   double* volume = volume_.data();
   double* bound = sigma1_bound_.data();
-  const double K = K_, mu = mu_;
+  const double K = K_, mu = mu_, eta_dil_per_h = eta_dil_per_h_, eta_dev_per_h = eta_dev_per_h_;
   // One range of blocks per thread of the team: a node whose cells all lie in one range gets
   // its corner forces added there, in cell order; the others (straddling_) are summed after,
   // from the element buffer. Either way a node's sum runs over its cells in cell order from
@@ -443,7 +440,7 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
         Pass1 p;
         BlockOut r;
         double* work_io = work + e0;
-        double power[W], alpha1_out[W], vol_out[W], bound_out[W];
+        double alpha1_out[W], vol_out[W], bound_out[W];
         double omega[W];
         for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
         pass1(B, x, p);
@@ -468,8 +465,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
             for (int j = 0; j < 3; ++j)
               L[3 * i + j] = Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
           const double trD = L[0] + L[4] + L[8];
-          const double eta_dev = B.eta_dev[l];
-          const double bulk = (B.eta_dil[l] - eta_dev * (2.0 / 3.0)) * trD;
+          const double eta_dev = eta_dev_per_h * B.h_e[l];
+          const double bulk = (eta_dil_per_h * B.h_e[l] - eta_dev * (2.0 / 3.0)) * trD;
           double Tv[9];
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
@@ -492,8 +489,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
               B.P_v[3 * j + i][l] = Pv;
             }
           for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
-          power[l] = 0.5 * (old_work + new_work);
-          work_io[l] += dt * power[l];  // the viscous work of the step (one sum per element)
+          const double power = 0.5 * (old_work + new_work);
+          work_io[l] += dt * power;  // the viscous work of the step (one sum per element)
           vol_out[l] = vol;
           bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
           r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
@@ -502,7 +499,6 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
 
         // The per-element results: each a whole cache line per block, streamed past the
         // caches on meshes larger than them (no read for ownership, docs/performance.md).
-        store_line(vp + e0, power, stream);
         store_line(alpha1_.data() + e0, alpha1_out, stream);
         store_line(volume + e0, vol_out, stream);
         store_line(bound + e0, bound_out, stream);

@@ -19,8 +19,11 @@ struct ElementData {
   std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
   std::vector<double> V0;       ///< reference volume
   std::vector<double> inv_V0;   ///< 1 / V0
-  std::vector<double> eta_dil;  ///< zeta1 rho0 c_p h_e: bulk viscosity of the element
-  std::vector<double> eta_dev;  ///< zeta2 rho0 c_s h_e: shear viscosity of the element
+  std::vector<double> h_e;      ///< element size: edge of the regular tet of volume V0
+  double eta_dil_per_h = 0;     ///< zeta1 rho0 c_p: eta_dil = eta_dil_per_h h_e (bulk viscosity)
+  double eta_dev_per_h = 0;     ///< zeta2 rho0 c_s: eta_dev = eta_dev_per_h h_e (shear viscosity)
+  double eta_dil(std::size_t e) const { return eta_dil_per_h * h_e[e]; }
+  double eta_dev(std::size_t e) const { return eta_dev_per_h * h_e[e]; }
 };
 
 /// An upper bound of the largest principal value of a symmetric stress (components xx, yy, zz,
@@ -123,8 +126,8 @@ class ForceAssembler {
   /// Nodal element forces, 3 per point, from the last compute() (and any gather since).
   const std::vector<double>& nodal_forces() const { return force_; }
 
-  /// Whether the element loop writes its per-element results (stress, volume, bound, alpha1,
-  /// power) with non-temporal stores: chosen at construction, on when the mesh's per-step
+  /// Whether the element loop writes its per-element results (stress, volume, bound,
+  /// alpha1) with non-temporal stores: chosen at construction, on when the mesh's per-step
   /// data is several times the L3 (a store then costs no read for ownership; a mesh that
   /// fits keeps them in cache for the damage and fracture passes). The values are the same.
   bool streaming() const { return stream_; }
@@ -135,7 +138,7 @@ class ForceAssembler {
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper
   /// bound of the largest principal value of T_el per element (sigma1_upper_bound), which also bounds
-  /// every nodal average (2.10); viscous powers. These per-element arrays hold whole blocks
+  /// every nodal average (2.10). These per-element arrays hold whole blocks
   /// (the element loop writes them lane by lane): entries past the last cell are padding.
   /// (Not const: the element buffer is filled on demand.)
   Vec3 corner_force(vtkIdType e, int c) {
@@ -143,7 +146,8 @@ class ForceAssembler {
     return Vec3(element_force_.data() + 12 * e + 3 * c);
   }
   const double* volumes() const { return volume_.data(); }
-  const double* viscous_powers() const { return viscous_power_.data(); }
+  /// Each element's viscous work so far (compute(grid, dt) adds dt x the step's power).
+  const double* viscous_works() const { return viscous_work_.data(); }
   const double* sigma1_bound() const { return sigma1_bound_.data(); }
   /// alpha1 = J^(-2/3) tr B of (B.2) per element at the last compute(): with J = volume / V0
   /// it gives the strain energy without recomputing F.
@@ -199,17 +203,17 @@ class ForceAssembler {
   struct alignas(64) Block {
     std::int32_t node[4][kLanes];
     double Dm_inv[9][kLanes];  // row-major 3x3
-    double V0[kLanes], inv_V0[kLanes], eta_dil[kLanes], eta_dev[kLanes];
+    double V0[kLanes], inv_V0[kLanes], h_e[kLanes];  // the viscosities are per_h_ x h_e
     double P_v[9][kLanes];     // v T_v G^T of the last step, column-major 3x3
   };
 
   const Grid* grid_;
   bool stream_ = false;
   double K_, mu_;
+  double eta_dil_per_h_, eta_dev_per_h_;  // ElementData's: one material per grid
   std::vector<Block> blocks_;
   std::vector<double> force_;           // 3 per point: the gathered nodal forces
   std::vector<double> element_force_;   // 12 per element: forces on corners 0..3, on demand
-  std::vector<double> viscous_power_;   // 1 per element
   std::vector<double> viscous_work_;    // 1 per element: integral of its viscous power
   std::vector<double> volume_;          // 1 per element
   std::vector<double> sigma1_bound_;    // 1 per element

@@ -41,7 +41,7 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
                                           d.cross(a).norm(), (b - a).cross(d - a).norm()});
       const double altitude = V > 0 ? 3.0 * V / face : 0.0;
       // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
-      const double eta_P = el.eta_dil[e] + (4.0 / 3.0) * el.eta_dev[e];
+      const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
       const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
       const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
       const StableStep here{dt, e, altitude, xi};
