@@ -128,7 +128,10 @@ void SensorRecorder::record(const Simulation& sim) {
     pending_ += text;
   }
   pending_ += '\n';
-  if (pending_.size() > (1 << 16)) out_->append(std::exchange(pending_, {}));
+  if (pending_.size() > (1 << 16)) {
+    out_->append(pending_);
+    pending_.clear();
+  }
 }
 
 void SensorRecorder::on_step(const Simulation& sim) { record(sim); }
