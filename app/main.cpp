@@ -183,8 +183,11 @@ int finish_run(const brittle::RunSummary& summary, const std::string& directory)
   std::cout << "wrote " << directory << " (" << summary.status << ")\n";
   if (summary.status != "interrupted") return 0;
   std::cerr << "brittle: stopped at t = " << summary.time << " s (step " << summary.steps
-            << "); checkpoint " << summary.checkpoint << "; continue with: brittle run --resume "
-            << directory << "\n";
+            << "); checkpoint " << summary.checkpoint << "; continue with: "
+            << (brittle::launched_by_mpi()
+                    ? "mpirun -np " + std::to_string(brittle::mpi_size()) + " "
+                    : std::string())
+            << "brittle run --resume " << directory << "\n";
   return 128 + brittle::stop_signal().load();
 }
 
@@ -230,15 +233,34 @@ int run_command(const std::vector<std::string>& args) {
   Progress progress(vm.count("profile") > 0, every);
   const bool decomposed = brittle::launched_by_mpi();  // mpirun -np N brittle run
   if (decomposed) brittle::begin_decomposed_run();
-  BRITTLE_CHECK(!decomposed || (!vm.count("resume") && !vm.count("dry-run")),
-                "brittle run under mpirun: --resume and --dry-run are not built for a run "
-                "decomposed over ranks (docs/parallel.md; expected them without mpirun)");
+  BRITTLE_CHECK(!decomposed || !vm.count("dry-run"),
+                "brittle run under mpirun: --dry-run is not built for a run decomposed over "
+                "ranks (docs/parallel.md; expected it without mpirun)");
   if (vm.count("resume")) {
     const std::string dir = vm["resume"].as<std::string>();
     BRITTLE_CHECK(files.empty() && out.empty() && !vm.count("dry-run"), "brittle run --resume ",
                   dir, ": scene files, --out and --dry-run do not go with --resume (the scene is "
                   "the checkpoint's; expected only --set run.end_time=T / run.threads=N)");
     brittle::install_stop_handlers();
+    if (decomposed) {  // every rank its piece (docs/checkpoint.md)
+      brittle::CheckpointHeader header;
+      brittle::Scene scene = brittle::resume_scene(dir, sets, &header);
+      const int ranks = brittle::mpi_size();
+      BRITTLE_CHECK(header.pieces == static_cast<std::uint32_t>(ranks), "checkpoint '", dir,
+                    "/checkpoint.bin' was written by ",
+                    header.pieces == 0 ? std::string("a serial run")
+                                       : "a run over " + std::to_string(header.pieces) + " MPI ranks",
+                    ", this run has ", ranks, " (resuming on another rank count is not built "
+                    "yet: docs/checkpoint.md; expected ",
+                    header.pieces == 0 ? std::string("brittle run --resume without mpirun")
+                                       : "mpirun -np " + std::to_string(header.pieces),
+                    ")");
+      const brittle::RunSummary s =
+          brittle::run_decomposed(scene, {&progress}, &brittle::stop_signal(), true);
+      if (brittle::mpi_rank() != 0)
+        return s.status == "interrupted" ? 128 + brittle::stop_signal().load() : 0;
+      return finish_run(s, dir);
+    }
     return finish_run(brittle::resume_run(dir, sets, {&progress}, &brittle::stop_signal()), dir);
   }
   BRITTLE_CHECK(!files.empty(), "brittle run: no scene file given (",

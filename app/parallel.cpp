@@ -128,8 +128,6 @@ void check_decomposable(const Scene& scene) {
                 "]: sensors", why, "; expected no [sensor.*] section, or run without mpirun)");
   BRITTLE_CHECK(scene.render.times.empty(), "render.times: frames rendered while running", why,
                 "; render the .pvd afterwards)");
-  BRITTLE_CHECK(scene.output.checkpoint_interval <= 0, "output.checkpoint_interval = ",
-                scene.output.checkpoint_interval, ": checkpoints", why, "; expected 0)");
   for (const BoundaryParams& b : scene.boundaries)
     BRITTLE_CHECK(b.region.group.empty(), "[boundary.", b.name, "] group = ", b.region.group,
                   ": physical-group regions", why, "; expected a box)");
@@ -145,7 +143,7 @@ bool silent_rank() { return g_decomposed_rank > 0; }
 void begin_decomposed_run() { g_decomposed_rank = mpi_rank(); }
 
 RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
-                          const std::atomic<int>* stop) {
+                          const std::atomic<int>* stop, bool resume) {
   const int rank = mpi_rank(), ranks = mpi_size();
   begin_decomposed_run();
   scene.resolved = scene_entries(scene);
@@ -175,6 +173,7 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     halo = std::make_unique<Halo>(whole, partition, part);
   }
   sim->decompose(*halo);
+  if (resume) restore_decomposed_checkpoint(*sim, *halo);  // the same error on every rank
   sim->set_stop_flag(stop);
   on_every_rank([&] {
     if (rank == 0 && !lock) lock.emplace(dir);
@@ -185,12 +184,13 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     if (scene.output.vtu) writers.push_back(std::make_unique<PieceSeriesWriter>(dir, *halo));
     if (rank != 0) return;
     write_file_atomically(dir + "/scene.ini", scene_ini(scene));  // the run's own scene
-    std::error_code ec;  // an earlier serial run's checkpoint is not this run's state
-    std::filesystem::remove(checkpoint_path(dir), ec);
-    if (const int n = remove_earlier_frames(dir))
-      std::fprintf(stderr, "brittle: removed %d frame files of an earlier run from %s/frames\n", n,
-                   dir.c_str());
-    writers.push_back(std::make_unique<EnergyCsvWriter>(dir, false));
+    if (!resume) {  // an earlier run's checkpoint and frames are not this run's
+      remove_checkpoints(dir);
+      if (const int n = remove_earlier_frames(dir))
+        std::fprintf(stderr, "brittle: removed %d frame files of an earlier run from %s/frames\n",
+                     n, dir.c_str());
+    }
+    writers.push_back(std::make_unique<EnergyCsvWriter>(dir, resume));
     if (sim->fracture().enabled()) {
       writers.push_back(std::make_unique<CrackTipCsvWriter>(dir));
       writers.push_back(std::make_unique<PatternWriter>(dir));

@@ -44,12 +44,15 @@ void begin_decomposed_run();
 /// Rank 0 meshes and partitions (METIS) the plate and sends both to every rank; each rank
 /// steps its part (solver/halo.hpp) and writes its piece of every frame; rank 0 writes
 /// energies.csv, crack_tip.csv, events.csv, pattern.json, summary.json and the .pvtu/.pvd
-/// series. Refused with one line, before anything is written: sensors, render.times,
-/// checkpoints and physical-group regions (not built for decomposed runs yet). Rank 0 holds
+/// series; checkpoints are every rank's piece and rank 0's checkpoint.bin that names the set
+/// (docs/checkpoint.md). Refused with one line, before anything is written: sensors,
+/// render.times and physical-group regions (not built for decomposed runs yet). Rank 0 holds
 /// the directory's lock (run_lock.hpp) for the run; a refusal ends every rank before any
-/// writes. `extra` observers (progress) run on rank 0.
+/// writes. `extra` observers (progress) run on rank 0. With `resume` (the scene from
+/// resume_scene) every rank restores its piece of the checkpoint in the output directory,
+/// which must come from as many ranks, and the run goes on there.
 RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
-                          const std::atomic<int>* stop);
+                          const std::atomic<int>* stop, bool resume = false);
 
 /// `brittle partition SCENE.ini [MORE.ini ...] --ranks 2,4 [--set k=v ...]`: meshes the
 /// scene, partitions it for each rank count and prints the partition quality (ghost nodes,

@@ -31,7 +31,7 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
   write_file_atomically(scene.output.directory + "/scene.ini", scene_ini(scene));
   std::error_code ec;
   if (!sim.resumed()) {
-    std::filesystem::remove(checkpoint, ec);
+    remove_checkpoints(scene.output.directory);  // and a decomposed run's pieces
     // An earlier, longer run's frames would stay beside this run's, listed nowhere.
     if (const int n = remove_earlier_frames(scene.output.directory))
       std::fprintf(stderr, "brittle: removed %d frame files of an earlier run from %s/frames\n", n,
@@ -62,10 +62,10 @@ RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
   return run_simulation(sim, extra, stop);
 }
 
-RunSummary resume_run(const std::string& directory, const std::vector<std::string>& overrides,
-                      const std::vector<Observer*>& extra, const std::atomic<int>* stop) {
-  const std::string path = checkpoint_path(directory);
-  const CheckpointHeader header = read_checkpoint_header(path);
+Scene resume_scene(const std::string& directory, const std::vector<std::string>& overrides,
+                   CheckpointHeader* header_out) {
+  const CheckpointHeader header = read_checkpoint_header(checkpoint_path(directory));
+  if (header_out) *header_out = header;
   for (const std::string& o : overrides) {
     const std::string key = o.substr(0, o.find('='));
     BRITTLE_CHECK(key == "run.end_time" || key == "run.threads" ||
@@ -73,7 +73,6 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
                   "--resume: --set ", o, " changes the run (expected only run.end_time, "
                   "run.threads or output.checkpoint_interval; other keys stay the checkpoint's)");
   }
-  const RunLock lock(directory);  // before anything is written, until the end
   std::vector<std::string> files, sets;
   for (const std::string& s : header.sources)
     (s.starts_with("--set ") ? sets : files).push_back(s.starts_with("--set ") ? s.substr(6) : s);
@@ -81,6 +80,18 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   Scene scene = load_scene(files, sets);
   scene.output.directory = directory;
   scene.resolved = scene_entries(scene);
+  return scene;
+}
+
+RunSummary resume_run(const std::string& directory, const std::vector<std::string>& overrides,
+                      const std::vector<Observer*>& extra, const std::atomic<int>* stop) {
+  const std::string path = checkpoint_path(directory);
+  CheckpointHeader header;
+  Scene scene = resume_scene(directory, overrides, &header);
+  BRITTLE_CHECK(header.pieces == 0, "checkpoint '", path, "' was written by a run decomposed "
+                "over ", header.pieces, " MPI ranks (expected: mpirun -np ", header.pieces,
+                " brittle run --resume ", directory, ")");
+  const RunLock lock(directory);  // before anything is written, until the end
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
   restore_checkpoint(sim, path);

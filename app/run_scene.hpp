@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "checkpoint.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
 
@@ -25,6 +26,13 @@ namespace brittle {
 /// "interrupted", a checkpoint and a last frame when it turns non-zero.
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra = {},
                      const std::atomic<int>* stop = nullptr);
+
+/// The scene of the run to resume in `directory`: its checkpoint's sources (files re-read,
+/// --set replayed) plus `overrides`, which may only set run.end_time, run.threads and
+/// output.checkpoint_interval; output.directory is `directory`. Throws brittle::Error naming
+/// the file or key otherwise. `header`, if given, gets the checkpoint's header.
+Scene resume_scene(const std::string& directory, const std::vector<std::string>& overrides,
+                   CheckpointHeader* header = nullptr);
 
 /// `brittle run --resume DIR`: the scene from the checkpoint's sources (files re-read, --set
 /// replayed) plus `overrides`, which may only set run.end_time, run.threads and

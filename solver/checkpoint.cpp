@@ -129,11 +129,25 @@ void Boundary::state(Ar& ar) {
 }
 
 template <class Ar>
+void Halo::state(Ar& ar) {
+  int rank = rank_, size = size_;
+  io_all(ar, rank, size);
+  BRITTLE_CHECK(rank == rank_ && size == size_, ar.what(), ": a piece of rank ", rank, " of ",
+                size, ", read by rank ", rank_, " of ", size_);
+  io_all(ar, node_owner_, global_nodes_, global_node_, local_node_, owned_);
+  std::uint64_t n = neighbours_.size();
+  io(ar, n);
+  if constexpr (Ar::loading) ar.check(n, 1), neighbours_.assign(n, Neighbour{});
+  for (Neighbour& b : neighbours_) io_all(ar, b.rank, b.send, b.recv);
+}
+
+template <class Ar>
 void Simulation::state(Ar& ar) {
   io_all(ar, time_, dt_, initial_dt_, steps_, dt_reductions_, substep_cap_steps_,
          damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
          events_, progress_);
   io_all(ar, grid_, assembler_, links_, fracture_, damage_, boundary_);
+  if (halo_) io(ar, *halo_);  // a decomposed run's piece: this rank's ids and lists
   if constexpr (Ar::loading) {
     rebuild_fronts();
   }
@@ -207,10 +221,11 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 6;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 7;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                       // 4: Weibull strength keys; 5: no element forces (the
                                       // next step recomputes them before any use); 6: blocks
-                                      // with h_e for the two viscosities, no viscous powers
+                                      // with h_e for the two viscosities, no viscous powers;
+                                      // 7: the piece count (decomposed runs' checkpoints)
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {
@@ -252,9 +267,110 @@ CheckpointFile load_file(const std::string& path) {
                 kFormat, ")");
   CheckpointHeader& h = f.header;
   io_all(r, h.version, h.sources, f.section_names, f.section_bytes, f.mesh_fingerprint, h.time,
-         h.steps);
+         h.steps, h.pieces);
   BRITTLE_CHECK(r.done(), what, ": damaged (header and state do not meet)");
+  if (h.pieces > 0) {  // a decomposed run's: the state is in the pieces this names
+    StateReader m(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);
+    io_all(m, h.generation, h.piece_sums);
+    BRITTLE_CHECK(m.done() && h.piece_sums.size() == h.pieces, what, ": damaged (pieces)");
+  }
   return f;
+}
+
+/// Opens `path`.tmp, lets `fill` write into it, fsyncs, renames it over `path` and fsyncs the
+/// directory: a kill at any moment leaves the previous file (or none) whole. Returns the bytes
+/// written.
+template <class Fill>
+std::size_t write_atomically(const std::string& path, bool kill, Fill&& fill) {
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  BRITTLE_CHECK(fd >= 0, "checkpoint: cannot write '", tmp, "': ", std::strerror(errno));
+  StateWriter w(fd, kill);
+  fill(w);
+  w.flush();
+  int error = w.error();
+  if (!error && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && !error) error = errno;
+  std::error_code ec;
+  if (!error) fs::rename(tmp, path, ec);
+  if (error || ec) {
+    fs::remove(tmp, ec);
+    throw Error(error_message("checkpoint: cannot write '", path, "': ",
+                              error ? std::strerror(error) : ec.message()));
+  }
+  // The rename itself reaches the disk with the directory.
+  const fs::path parent = fs::path(path).parent_path();
+  const std::string dir = parent.empty() ? std::string(".") : parent.string();
+  if (const int d = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) {
+    ::fsync(d);
+    ::close(d);
+  }
+  return w.written();
+}
+
+/// The header of a checkpoint of `sim` (magic to piece count), then `state(w)`, its size and
+/// the checksum of everything before, which it returns.
+template <class State>
+std::uint64_t write_file(StateWriter& w, const Simulation& sim, std::uint32_t pieces,
+                         State&& state) {
+  w.raw(kMagic, sizeof kMagic - 1);
+  std::uint32_t format = kFormat;
+  std::string version = BRITTLE_VERSION;
+  std::vector<std::string> sources;
+  for (const std::string& s : sim.scene().sources)
+    sources.push_back(s.starts_with("--set ") ? s : fs::absolute(s).lexically_normal().string());
+  std::vector<std::string> names, bytes;
+  for (auto& [name, b] : scene_sections(sim.scene())) names.push_back(name), bytes.push_back(b);
+  std::uint64_t mesh = sim.mesh_fingerprint();
+  double time = sim.time();
+  long steps = sim.steps();
+  io_all(w, format, version, sources, names, bytes, mesh, time, steps, pieces);
+  const std::size_t state_begin = w.written();
+  state(w);
+  std::uint64_t state_size = w.written() - state_begin;
+  io(w, state_size);
+  std::uint64_t sum = w.hash();
+  io(w, sum);
+  return sum;
+}
+
+/// Test hook (docs/testing.md): BRITTLE_TEST_KILL_IN_CHECKPOINT=N kills the process after the
+/// first block of its N-th checkpoint (a decomposed run: of its N-th piece) is written, as a
+/// SIGKILL from outside would.
+bool kill_in_this_checkpoint() {
+  static int count = 0;
+  const char* kill_at = std::getenv("BRITTLE_TEST_KILL_IN_CHECKPOINT");
+  return kill_at && std::atoi(kill_at) == ++count;
+}
+
+/// The checks every restore makes of a checkpoint file against the simulation built to take
+/// it: version, scene, mesh and end time.
+void check_fits(const CheckpointFile& f, const Simulation& sim, const std::string& what) {
+  BRITTLE_CHECK(f.header.version == BRITTLE_VERSION, what, " was written by brittle ",
+                f.header.version, ", this is brittle ", BRITTLE_VERSION,
+                " (expected the same version: run the scene again from the start)");
+  const auto sections = scene_sections(sim.scene());
+  BRITTLE_CHECK(f.section_names.size() == sections.size(), what, ": scene sections differ");
+  for (std::size_t i = 0; i < sections.size(); ++i)
+    BRITTLE_CHECK(f.section_names[i] == sections[i].first && f.section_bytes[i] == sections[i].second,
+                  what, ": the scene's [", sections[i].first,
+                  "] keys differ from the checkpoint's (on --resume only run.end_time, "
+                  "run.threads and output.checkpoint_interval may change)");
+  BRITTLE_CHECK(f.mesh_fingerprint == sim.mesh_fingerprint(), what,
+                ": the mesh differs from the checkpoint's (expected the same mesh.file "
+                "contents or generated plate)");
+  BRITTLE_CHECK(f.header.time <= sim.scene().run.end_time * (1 + 1e-12), what, ": run.end_time = ",
+                sim.scene().run.end_time, " s is before the checkpoint's time ", f.header.time,
+                " s (expected a later end time)");
+}
+
+/// The state part of a loaded, checked file into `sim` (collective in a decomposed run:
+/// the crack fronts are rebuilt from every rank's volumes).
+void load_state(Simulation& sim, const CheckpointFile& f, const std::string& what) {
+  StateReader r(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);
+  sim.state(r);
+  BRITTLE_CHECK(r.done(), what, ": damaged (bytes left after the state)");
+  sim.mark_resumed();
 }
 
 }  // namespace
@@ -295,53 +411,100 @@ void StateWriter::flush() {
 }
 
 std::size_t write_checkpoint(const Simulation& sim, const std::string& path) {
-  // Test hook (docs/testing.md): BRITTLE_TEST_KILL_IN_CHECKPOINT=N kills the process after the
-  // first block of its N-th checkpoint is written, as a SIGKILL from outside would.
-  static int count = 0;
-  const char* kill_at = std::getenv("BRITTLE_TEST_KILL_IN_CHECKPOINT");
-  const bool kill = kill_at && std::atoi(kill_at) == ++count;
+  return write_atomically(path, kill_in_this_checkpoint(), [&](StateWriter& w) {
+    write_file(w, sim, 0, [&](StateWriter& ww) {
+      const_cast<Simulation&>(sim).state(ww);  // the writer only reads
+    });
+  });
+}
 
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  BRITTLE_CHECK(fd >= 0, "checkpoint: cannot write '", tmp, "': ", std::strerror(errno));
-  StateWriter w(fd, kill);
-  w.raw(kMagic, sizeof kMagic - 1);
-  std::uint32_t format = kFormat;
-  std::string version = BRITTLE_VERSION;
-  std::vector<std::string> sources;
-  for (const std::string& s : sim.scene().sources)
-    sources.push_back(s.starts_with("--set ") ? s : fs::absolute(s).lexically_normal().string());
-  std::vector<std::string> names, bytes;
-  for (auto& [name, b] : scene_sections(sim.scene())) names.push_back(name), bytes.push_back(b);
-  std::uint64_t mesh = sim.mesh_fingerprint();
-  double time = sim.time();
-  long steps = sim.steps();
-  io_all(w, format, version, sources, names, bytes, mesh, time, steps);
-  const std::size_t state_begin = w.written();
-  const_cast<Simulation&>(sim).state(w);  // the writer only reads
-  std::uint64_t state_size = w.written() - state_begin;
-  io(w, state_size);
-  std::uint64_t sum = w.hash();
-  io(w, sum);
-  w.flush();
-  int error = w.error();
-  if (!error && ::fsync(fd) != 0) error = errno;
-  if (::close(fd) != 0 && !error) error = errno;
+std::string checkpoint_piece_path(const std::string& directory, std::uint64_t generation,
+                                  int rank) {
+  return directory + "/checkpoint_r" + std::to_string(rank) + "_g" + std::to_string(generation) +
+         ".bin";
+}
+
+namespace {
+
+/// Whether `name` is a checkpoint piece (or its .tmp), of rank `rank` if rank >= 0; its
+/// generation in `generation`.
+bool is_piece(const std::string& name, int rank, std::uint64_t* generation = nullptr) {
+  unsigned long long r = 0, g = 0;
+  int used = 0;
+  if (std::sscanf(name.c_str(), "checkpoint_r%llu_g%llu.bin%n", &r, &g, &used) != 2) return false;
+  const std::string rest = name.substr(static_cast<std::size_t>(used));
+  if (!rest.empty() && rest != ".tmp") return false;
+  if (generation) *generation = g;
+  return rank < 0 || r == static_cast<unsigned long long>(rank);
+}
+
+}  // namespace
+
+void remove_checkpoints(const std::string& directory) {
   std::error_code ec;
-  if (!error) fs::rename(tmp, path, ec);
-  if (error || ec) {
-    fs::remove(tmp, ec);
-    throw Error(error_message("checkpoint: cannot write '", path, "': ",
-                              error ? std::strerror(error) : ec.message()));
+  fs::remove(checkpoint_path(directory), ec);
+  fs::remove(checkpoint_path(directory) + ".tmp", ec);
+  for (const auto& entry : fs::directory_iterator(directory, ec))
+    if (is_piece(entry.path().filename().string(), -1)) fs::remove(entry.path(), ec);
+}
+
+std::size_t write_decomposed_checkpoint(const Simulation& sim, const Halo& halo) {
+  const std::string dir = sim.scene().output.directory, manifest = checkpoint_path(dir);
+  // The next generation: one past the set checkpoint.bin names now (rank 0 reads it).
+  long generation = 1;
+  if (halo.rank() == 0) {
+    std::error_code ec;
+    if (fs::is_regular_file(manifest, ec)) try {
+        const CheckpointHeader h = read_checkpoint_header(manifest);
+        generation = static_cast<long>(h.generation) + 1;
+      } catch (const Error&) {  // a damaged one is replaced
+      }
   }
-  // The rename itself reaches the disk with the directory.
-  const fs::path parent = fs::path(path).parent_path();
-  const std::string dir = parent.empty() ? std::string(".") : parent.string();
-  if (const int d = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) {
-    ::fsync(d);
-    ::close(d);
+  generation = halo.max(generation);
+  const auto g = static_cast<std::uint64_t>(generation);
+  // Every rank its piece (an ordinary checkpoint of its part, with its Halo), then rank 0 the
+  // file that names the set, once every piece is on disk: until then checkpoint.bin names the
+  // previous set, whole.
+  std::uint64_t sum = 0;
+  std::size_t bytes = 0;
+  std::string error;
+  const std::string piece = checkpoint_piece_path(dir, g, halo.rank());
+  try {
+    bytes = write_atomically(piece, kill_in_this_checkpoint(), [&](StateWriter& w) {
+      sum = write_file(w, sim, 0, [&](StateWriter& ww) { const_cast<Simulation&>(sim).state(ww); });
+    });
+  } catch (const std::exception& e) {
+    error = e.what();
   }
-  return w.written();
+  std::string first = first_error(error);
+  std::vector<double> word(1);
+  std::memcpy(word.data(), &sum, sizeof sum);
+  const std::vector<double> words = halo.gather_all(word);  // checksums travel as bits
+  std::error_code ec;
+  if (first.empty() && halo.rank() == 0) {
+    std::vector<std::uint64_t> sums(words.size());
+    std::memcpy(sums.data(), words.data(), sizeof(double) * words.size());
+    try {
+      bytes += write_atomically(manifest, false, [&](StateWriter& w) {
+        write_file(w, sim, static_cast<std::uint32_t>(halo.size()), [&](StateWriter& ww) {
+          std::uint64_t gen = g;
+          io_all(ww, gen, sums);
+        });
+      });
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  if (first.empty()) first = first_error(error);
+  // This rank's other pieces go (a failed set: this one; else the earlier sets).
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    std::uint64_t of = 0;
+    if (is_piece(entry.path().filename().string(), halo.rank(), &of) &&
+        (first.empty() ? of != g : of == g))
+      fs::remove(entry.path(), ec);
+  }
+  if (!first.empty()) throw Error(first);
+  return bytes;
 }
 
 CheckpointHeader read_checkpoint_header(const std::string& path) {
@@ -351,26 +514,38 @@ CheckpointHeader read_checkpoint_header(const std::string& path) {
 void restore_checkpoint(Simulation& sim, const std::string& path) {
   const CheckpointFile f = load_file(path);
   const std::string what = "checkpoint '" + path + "'";
-  BRITTLE_CHECK(f.header.version == BRITTLE_VERSION, what, " was written by brittle ",
-                f.header.version, ", this is brittle ", BRITTLE_VERSION,
-                " (expected the same version: run the scene again from the start)");
-  const auto sections = scene_sections(sim.scene());
-  BRITTLE_CHECK(f.section_names.size() == sections.size(), what, ": scene sections differ");
-  for (std::size_t i = 0; i < sections.size(); ++i)
-    BRITTLE_CHECK(f.section_names[i] == sections[i].first && f.section_bytes[i] == sections[i].second,
-                  what, ": the scene's [", sections[i].first,
-                  "] keys differ from the checkpoint's (on --resume only run.end_time, "
-                  "run.threads and output.checkpoint_interval may change)");
-  BRITTLE_CHECK(f.mesh_fingerprint == sim.mesh_fingerprint(), what,
-                ": the mesh differs from the checkpoint's (expected the same mesh.file "
-                "contents or generated plate)");
-  BRITTLE_CHECK(f.header.time <= sim.scene().run.end_time * (1 + 1e-12), what, ": run.end_time = ",
-                sim.scene().run.end_time, " s is before the checkpoint's time ", f.header.time,
-                " s (expected a later end time)");
-  StateReader r(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);
-  sim.state(r);
-  BRITTLE_CHECK(r.done(), what, ": damaged (bytes left after the state)");
-  sim.mark_resumed();
+  BRITTLE_CHECK(f.header.pieces == 0, what, " was written by a run decomposed over ",
+                f.header.pieces, " MPI ranks (expected: mpirun -np ", f.header.pieces,
+                " brittle run --resume DIR)");
+  check_fits(f, sim, what);
+  load_state(sim, f, what);
+}
+
+void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo) {
+  const std::string dir = sim.scene().output.directory, manifest = checkpoint_path(dir);
+  CheckpointFile f;
+  std::string what, error;
+  try {  // every check on every rank, agreed, before the collective load
+    const CheckpointHeader h = read_checkpoint_header(manifest);
+    BRITTLE_CHECK(h.pieces == static_cast<std::uint32_t>(halo.size()), "checkpoint '", manifest,
+                  "' was written by ", h.pieces == 0 ? "a serial run" : "a run over ",
+                  h.pieces == 0 ? "" : std::to_string(h.pieces) + " MPI ranks",
+                  ", this run has ", halo.size(), " (resuming on another rank count is not "
+                  "built yet: docs/checkpoint.md; expected mpirun -np ",
+                  std::max<std::uint32_t>(h.pieces, 1), ")");
+    const std::string piece = checkpoint_piece_path(dir, h.generation, halo.rank());
+    what = "checkpoint piece '" + piece + "'";
+    f = load_file(piece);
+    const std::uint64_t sum = fnv1a(f.bytes.data(), f.bytes.size() - 8);
+    BRITTLE_CHECK(sum == h.piece_sums[halo.rank()], what, ": not the piece '", manifest,
+                  "' names (checksum; expected the set written with it)");
+    check_fits(f, sim, what);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  const std::string first = first_error(error);
+  if (!first.empty()) throw Error(first);
+  load_state(sim, f, what);
 }
 
 }  // namespace brittle

@@ -16,6 +16,7 @@
 namespace brittle {
 
 class Simulation;
+class Halo;
 
 /// FNV-1a over bytes (fingerprints and the checkpoint's checksum), continuing from h.
 inline std::uint64_t fnv1a(const void* data, std::size_t size,
@@ -152,6 +153,11 @@ struct CheckpointHeader {
   std::vector<std::string> sources;  ///< scene files (absolute) and "--set k=v", in order
   double time = 0;                   ///< simulated time of the state
   long steps = 0;
+  /// 0: the file holds the state. N > 0: a run decomposed over N MPI ranks wrote it; the
+  /// state is in the N pieces of `generation` (checkpoint_piece_path), their checksums here.
+  std::uint32_t pieces = 0;
+  std::uint64_t generation = 0;
+  std::vector<std::uint64_t> piece_sums;
 };
 
 /// The file name of a run's checkpoint in its output directory.
@@ -162,6 +168,26 @@ inline std::string checkpoint_path(const std::string& directory) {
 /// Writes the simulation's state to `path` through `path`.tmp, fsync and a rename, so that a
 /// kill at any moment leaves the previous checkpoint (or none) intact. Returns bytes written.
 std::size_t write_checkpoint(const Simulation& sim, const std::string& path);
+
+/// A decomposed run's checkpoint piece: rank `rank`'s part of set `generation`.
+std::string checkpoint_piece_path(const std::string& directory, std::uint64_t generation,
+                                  int rank);
+
+/// Removes a run directory's checkpoint: checkpoint.bin, every piece, and their .tmp files
+/// (a fresh run into the directory: they are not its state).
+void remove_checkpoints(const std::string& directory);
+
+/// A decomposed run's checkpoint (collective; docs/checkpoint.md): every rank writes its piece
+/// (write_checkpoint's file, of its part and its Halo), then rank 0 rewrites checkpoint.bin to
+/// name the new set with the pieces' checksums, then each rank removes its earlier pieces. A
+/// kill at any moment leaves checkpoint.bin naming a whole set. A failure on any rank throws on
+/// every rank. Returns the bytes this rank wrote.
+std::size_t write_decomposed_checkpoint(const Simulation& sim, const Halo& halo);
+
+/// Restores this rank's piece of the set checkpoint.bin names in the output directory
+/// (collective): the same rank count, each piece's checksum the one checkpoint.bin holds, and
+/// the checks of restore_checkpoint; a failure on any rank throws on every rank.
+void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo);
 
 /// Reads the header of a checkpoint (version, scene sources, time); throws brittle::Error
 /// naming the file if it is not one.

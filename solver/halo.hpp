@@ -100,6 +100,11 @@ class Halo {
                                         const std::vector<CohesiveLink>& removed,
                                         std::vector<GlobalFailure>& failures);
 
+  /// What the splits change (node ids and owners, the send and receive lists) to and from a
+  /// checkpoint piece (solver/checkpoint.cpp); the static rest comes from the partition.
+  template <class Ar>
+  void state(Ar& ar);
+
  private:
   struct Neighbour {
     int rank = -1;

@@ -225,21 +225,33 @@ void VtuSeriesWriter::on_frame(const Simulation& sim) {
   link_series_.add(sim.time(), link_file);
 }
 
+namespace {
+
+/// Removes the files <dir>/frames/frame_NNNN<suffix> and links_NNNN<suffix> with NNNN >= keep
+/// for each suffix given (those the stopped run wrote after its checkpoint).
+void remove_frames_from(const std::string& directory, long keep,
+                        std::initializer_list<const char*> suffixes) {
+  for (const auto& entry : fs::directory_iterator(directory + "/frames")) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with("frame_") && !name.starts_with("links_")) continue;
+    for (const char* suffix : suffixes) {
+      const std::string ext = suffix;
+      if (name.size() <= 6 + ext.size() || !name.ends_with(ext)) continue;
+      const std::string digits = name.substr(6, name.size() - 6 - ext.size());
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (std::stol(digits) >= keep) fs::remove(entry.path());
+    }
+  }
+}
+
+}  // namespace
+
 void VtuSeriesWriter::on_resume(const Simulation& sim) {
   const long keep = sim.progress().frames_written;
   grid_series_.resume(keep);
   if (sim.fracture().enabled()) link_series_.resume(keep);
   frames_ = static_cast<int>(keep);
-  // Frames numbered from `keep` on were written by the stopped run after its checkpoint.
-  for (const auto& entry : fs::directory_iterator(directory_ + "/frames")) {
-    const std::string name = entry.path().filename().string();
-    const bool ours = (name.starts_with("frame_") && name.ends_with(".vtu")) ||
-                      (name.starts_with("links_") && name.ends_with(".vtp"));
-    if (!ours) continue;
-    const std::string digits = name.substr(6, name.size() - 10);
-    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (std::stol(digits) >= keep) fs::remove(entry.path());
-  }
+  remove_frames_from(directory_, keep, {".vtu", ".vtp"});
 }
 
 namespace {
@@ -397,6 +409,17 @@ void PieceSeriesWriter::on_frame(const Simulation& sim) {
   write_file_atomically(directory_ + "/frames/" + links + ".pvtp",
                         parallel_summary("PolyData", lines, link_pieces));
   link_series_.add(sim.time(), "frames/" + links + ".pvtp");
+}
+
+void PieceSeriesWriter::on_resume(const Simulation& sim) {
+  const long keep = sim.progress().frames_written;
+  frames_ = static_cast<int>(keep);
+  const std::string piece = "_r" + std::to_string(halo_.rank());
+  remove_frames_from(directory_, keep, {(piece + ".vtu").c_str(), (piece + ".vtp").c_str()});
+  if (halo_.rank() != 0) return;
+  grid_series_.resume(keep);
+  if (sim.fracture().enabled()) link_series_.resume(keep);
+  remove_frames_from(directory_, keep, {".pvtu", ".pvtp"});
 }
 
 std::vector<PvdEntry> read_pvd(const std::string& path) {

@@ -66,6 +66,9 @@ class PieceSeriesWriter : public Observer {
  public:
   PieceSeriesWriter(std::string directory, const Halo& halo);
   void on_frame(const Simulation& sim) override;
+  /// Keeps the frames written before the checkpoint; every rank removes its own later pieces,
+  /// rank 0 the later .pvtu / .pvtp and the .pvd entries.
+  void on_resume(const Simulation& sim) override;
 
  private:
   std::string directory_;

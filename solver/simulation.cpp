@@ -451,7 +451,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     PhaseClock clock;
     const std::string path = checkpoint_path(scene_.output.directory);
     const auto t0 = std::chrono::steady_clock::now();
-    summary.checkpoint_bytes = write_checkpoint(*this, path);
+    summary.checkpoint_bytes =  // a decomposed run: every rank its piece (collective)
+        halo_ ? write_decomposed_checkpoint(*this, *halo_) : write_checkpoint(*this, path);
     summary.checkpoint_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++summary.checkpoints;
@@ -514,9 +515,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     agreed(false);  // a writer's failure at the last row or frame
     if (interrupted) {
       // The checkpoint holds the progress without the last frame below: a resumed run writes
-      // its frames as the uninterrupted run would (the writers drop the extra one). A
-      // decomposed run writes no checkpoint (docs/parallel.md).
-      if (!halo_) checkpoint();
+      // its frames as the uninterrupted run would (the writers drop the extra one).
+      checkpoint();
       if (!frame_now) {
         update_output_fields();
         for (Observer* o : observers) o->on_frame(*this);
@@ -529,7 +529,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
         for (Observer* o : observers) o->on_frame(*this);
         ++p.frames_written;
       }
-      if (checkpoint_interval > 0 && !halo_ &&
+      if (checkpoint_interval > 0 &&
           (summary.checkpoint.empty() || summary.checkpoint_time != time_))
         checkpoint();  // so that the run can be extended (--resume with a later run.end_time)
       summary.status = "completed";

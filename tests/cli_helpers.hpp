@@ -93,10 +93,13 @@ inline Result run_brittle(const TempDir& dir, const std::vector<std::string>& ar
 /// `dir`); wait() returns its exit code (128 + signal if a signal ended it).
 class Background {
  public:
+  /// `launcher`: a command that starts brittle (e.g. mpiexec -np 2), its program first.
   Background(const TempDir& dir, const std::vector<std::string>& args,
-             const std::vector<std::string>& env = {})
+             const std::vector<std::string>& env = {},
+             const std::vector<std::string>& launcher = {})
       : out_(dir / "bg_stdout.txt"), err_(dir / "bg_stderr.txt") {
-    std::vector<std::string> argv_s{BRITTLE_EXE};
+    std::vector<std::string> argv_s = launcher;
+    argv_s.push_back(BRITTLE_EXE);
     argv_s.insert(argv_s.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : argv_s) argv.push_back(a.data());
@@ -112,7 +115,8 @@ class Background {
     posix_spawn_file_actions_addopen(&actions, 1, out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&actions, 2, err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    const int rc = posix_spawn(&pid_, BRITTLE_EXE, &actions, nullptr, argv.data(), envp.data());
+    const int rc = posix_spawn(&pid_, argv_s[0].c_str(), &actions, nullptr, argv.data(),
+                               envp.data());
     posix_spawn_file_actions_destroy(&actions);
     if (rc != 0) throw std::runtime_error("posix_spawn failed");
   }
