@@ -233,9 +233,6 @@ int run_command(const std::vector<std::string>& args) {
   Progress progress(vm.count("profile") > 0, every);
   const bool decomposed = brittle::launched_by_mpi();  // mpirun -np N brittle run
   if (decomposed) brittle::begin_decomposed_run();
-  BRITTLE_CHECK(!decomposed || !vm.count("dry-run"),
-                "brittle run under mpirun: --dry-run is not built for a run decomposed over "
-                "ranks (docs/parallel.md; expected it without mpirun)");
   if (vm.count("resume")) {
     const std::string dir = vm["resume"].as<std::string>();
     BRITTLE_CHECK(files.empty() && out.empty() && !vm.count("dry-run"), "brittle run --resume ",
@@ -272,8 +269,8 @@ int run_command(const std::vector<std::string>& args) {
     std::cout << brittle::scene_ini(scene);
     return 0;
   }
-  if (vm.count("dry-run")) {
-    brittle::dry_run(scene, std::cout);
+  if (vm.count("dry-run")) {  // under mpirun: rank 0 reports every rank's part
+    if (brittle::mpi_rank() == 0) brittle::dry_run(scene, std::cout, brittle::mpi_size());
     return 0;
   }
   brittle::install_stop_handlers();

@@ -20,9 +20,11 @@
 #include <vtkNew.h>
 #include <vtkPoints.h>
 #include <vtkIntArray.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "boundary.hpp"
 #include "command_line.hpp"
 #include "error.hpp"
 #include "checkpoint.hpp"
@@ -33,8 +35,10 @@
 #include "output.hpp"
 #include "partition.hpp"
 #include "plate_mesh.hpp"
+#include "render_commands.hpp"
 #include "run_lock.hpp"
 #include "scene_options.hpp"
+#include "sensors.hpp"
 
 namespace brittle {
 namespace {
@@ -81,7 +85,57 @@ void on_every_rank(F&& f) {
   agree(error);
 }
 
-/// Rank 0's mesh on every rank: points and tets, broadcast.
+/// Whether a point array is a physical group's node mask (plate_mesh.cpp, boundary.hpp).
+bool is_group(const char* name) { return name && std::string(name).starts_with(group_array_name("")); }
+
+/// Rank 0's physical-group node masks ("group:NAME" point arrays of a .msh mesh) on every
+/// rank's copy of the mesh, broadcast.
+void share_groups(vtkUnstructuredGrid& mesh) {
+  const vtkIdType n = mesh.GetNumberOfPoints();
+  std::vector<std::string> names;
+  if (mpi_rank() == 0)
+    for (int i = 0; i < mesh.GetPointData()->GetNumberOfArrays(); ++i)
+      if (is_group(mesh.GetPointData()->GetArrayName(i)))
+        names.emplace_back(mesh.GetPointData()->GetArrayName(i));
+  long count = static_cast<long>(names.size());
+  MPI_Bcast(&count, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  names.resize(count);
+  std::vector<unsigned char> mask(n);
+  for (std::string& name : names) {
+    long length = static_cast<long>(name.size());
+    MPI_Bcast(&length, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+    name.resize(length);
+    MPI_Bcast(name.data(), static_cast<int>(length), MPI_CHAR, 0, MPI_COMM_WORLD);
+    if (mpi_rank() == 0) {
+      vtkDataArray* a = mesh.GetPointData()->GetArray(name.c_str());
+      for (vtkIdType p = 0; p < n; ++p) mask[p] = a->GetTuple1(p) != 0;
+    }
+    MPI_Bcast(mask.data(), static_cast<int>(n), MPI_UNSIGNED_CHAR, 0, MPI_COMM_WORLD);
+    if (mpi_rank() == 0) continue;
+    auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    a->SetName(name.c_str());
+    a->SetNumberOfTuples(n);
+    std::copy(mask.begin(), mask.end(), a->GetPointer(0));
+    mesh.GetPointData()->AddArray(a);
+  }
+}
+
+/// The whole mesh's physical-group masks on a part's nodes (regions by group select the same
+/// nodes as in the serial run).
+void add_groups(vtkUnstructuredGrid& whole, LocalPart& part) {
+  for (int i = 0; i < whole.GetPointData()->GetNumberOfArrays(); ++i) {
+    if (!is_group(whole.GetPointData()->GetArrayName(i))) continue;
+    vtkDataArray* from = whole.GetPointData()->GetArray(i);
+    auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    a->SetName(from->GetName());
+    a->SetNumberOfTuples(static_cast<vtkIdType>(part.global_node.size()));
+    for (std::size_t k = 0; k < part.global_node.size(); ++k)
+      a->SetValue(static_cast<vtkIdType>(k), from->GetTuple1(part.global_node[k]) != 0);
+    part.mesh->GetPointData()->AddArray(a);
+  }
+}
+
+/// Rank 0's mesh on every rank: points, tets and physical groups, broadcast.
 vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   vtkSmartPointer<vtkUnstructuredGrid> mesh;
   std::vector<double> points;
@@ -105,7 +159,10 @@ vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   cells.resize(sizes[1]);
   MPI_Bcast(points.data(), static_cast<int>(sizes[0]), MPI_DOUBLE, 0, MPI_COMM_WORLD);
   MPI_Bcast(cells.data(), static_cast<int>(sizes[1]), MPI_INT64_T, 0, MPI_COMM_WORLD);
-  if (mpi_rank() == 0) return mesh;
+  if (mpi_rank() == 0) {
+    share_groups(*mesh);
+    return mesh;
+  }
   auto pts = vtkSmartPointer<vtkPoints>::New();
   pts->SetDataTypeToDouble();
   pts->SetNumberOfPoints(sizes[0] / 3);
@@ -118,22 +175,8 @@ vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   mesh->SetPoints(pts);
   mesh->SetCells(VTK_TETRA, tets);
+  share_groups(*mesh);
   return mesh;
-}
-
-/// What a decomposed run does not do yet, refused before anything is read or written.
-void check_decomposable(const Scene& scene) {
-  const std::string why = " is not built for a run decomposed over MPI ranks yet (docs/parallel.md";
-  BRITTLE_CHECK(scene.sensors.empty(), "[sensor.", scene.sensors.empty() ? "" : scene.sensors[0].name,
-                "]: sensors", why, "; expected no [sensor.*] section, or run without mpirun)");
-  BRITTLE_CHECK(scene.render.times.empty(), "render.times: frames rendered while running", why,
-                "; render the .pvd afterwards)");
-  for (const BoundaryParams& b : scene.boundaries)
-    BRITTLE_CHECK(b.region.group.empty(), "[boundary.", b.name, "] group = ", b.region.group,
-                  ": physical-group regions", why, "; expected a box)");
-  for (const InitialVelocityParams& v : scene.initial.velocities)
-    BRITTLE_CHECK(v.region.group.empty(), "[initial.", v.name, "] group = ", v.region.group,
-                  ": physical-group regions", why, "; expected a box)");
 }
 
 }  // namespace
@@ -147,7 +190,6 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   const int rank = mpi_rank(), ranks = mpi_size();
   begin_decomposed_run();
   scene.resolved = scene_entries(scene);
-  check_decomposable(scene);  // the same scene on every rank: the same verdict
   // Rank 0 takes the directory's lock for the whole run, before any rank writes: at once when
   // the directory exists, else when it is made (as run_scene); a refusal reaches every rank
   // (on_every_rank), so none goes on.
@@ -167,7 +209,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     });
     MPI_Bcast(cell_part.data(), static_cast<int>(cell_part.size()), MPI_INT, 0, MPI_COMM_WORLD);
     const Partition partition = partition_from(whole, std::move(cell_part), ranks);
-    const LocalPart part = extract_part(whole, partition, rank);
+    LocalPart part = extract_part(whole, partition, rank);
+    add_groups(*mesh, part);
     mesh = nullptr;  // the whole mesh is not needed from here on
     on_every_rank([&] { sim = std::make_unique<Simulation>(scene, *part.mesh); });
     halo = std::make_unique<Halo>(whole, partition, part);
@@ -182,6 +225,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   on_every_rank([&] {
     std::filesystem::create_directories(dir);
     if (scene.output.vtu) writers.push_back(std::make_unique<PieceSeriesWriter>(dir, *halo));
+    if (!scene.sensors.empty())  // on every rank: the owner of a sensor's node reads it
+      writers.push_back(std::make_unique<SensorRecorder>(scene, dir, rank == 0));
     if (rank != 0) return;
     write_file_atomically(dir + "/scene.ini", scene_ini(scene));  // the run's own scene
     if (!resume) {  // an earlier run's checkpoint and frames are not this run's
@@ -197,6 +242,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     }
     writers.push_back(std::make_unique<SummaryWriter>(dir));
   });
+  // render.times: on every rank, as it gathers the pieces on rank 0 that draws them.
+  if (auto renderer = make_render_observer(scene)) writers.push_back(std::move(renderer));
   std::vector<Observer*> observers;
   for (auto& w : writers) observers.push_back(w.get());
   if (rank == 0) observers.insert(observers.end(), extra.begin(), extra.end());

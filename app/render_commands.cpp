@@ -164,8 +164,11 @@ class RenderObserver : public Observer {
     while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) ++next_;
     if (next_ == first) return;
     const auto t0 = std::chrono::steady_clock::now();
+    // A decomposed run: every rank's piece joined on rank 0, which draws (collective).
+    const vtkSmartPointer<vtkUnstructuredGrid> grid = whole_grid(sim);
+    if (!grid) return;
     for (Field f : fields_) {
-      auto image = renderer_.render(*sim.grid().vtk(), f);
+      auto image = renderer_.render(*grid, f);
       render::write_png(*image, directory_ + "/" + render::frame_file_name(f, times_[next_ - 1]));
       ++frames_;
     }
@@ -177,7 +180,8 @@ class RenderObserver : public Observer {
     while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.dt()) ++next_;
   }
 
-  void on_finish(const Simulation&, const RunSummary&) override {
+  void on_finish(const Simulation& sim, const RunSummary&) override {
+    if (sim.halo() && sim.halo()->rank() != 0) return;  // rank 0 drew the frames
     if (skipped_damage_) std::cerr << "brittle: " << kNoDamage << "\n";
     if (frames_ > 0)
       std::fprintf(stderr, "brittle: %d PNG frames in %s (%.3f s per frame)\n", frames_,

@@ -46,6 +46,8 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
 /// `brittle run --dry-run`: meshes the scene and sets up the Simulation (so every check and
 /// guard applies), then prints tets, nodes, dt, steps, frames, energy rows and estimates of
 /// memory, disk and wall time to `out`. Writes no file.
-void dry_run(Scene scene, std::ostream& out);
+/// With `ranks` > 1 (`mpirun -np N brittle run --dry-run`, rank 0 only) it also partitions the
+/// grid as the decomposed run would and prints each rank's cells, nodes, neighbours and memory.
+void dry_run(Scene scene, std::ostream& out, int ranks = 1);
 
 }  // namespace brittle

@@ -25,6 +25,8 @@ int comm_size() {
   return n;
 }
 
+long g_collectives = 0;  ///< collective calls of this process (Halo::traffic)
+
 }  // namespace
 
 Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
@@ -117,6 +119,8 @@ void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
       for (const auto& [field, width] : fields)
         for (int k = 0; k < width; ++k) *b++ = field[width * i + k];
     requests.emplace_back();
+    bytes_sent_ += static_cast<long>(sizeof(double) * n.send_buffer.size());
+    ++messages_;
     MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.rank, 0,
               MPI_COMM_WORLD, &requests.back());
   }
@@ -129,7 +133,10 @@ void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
   }
 }
 
+Halo::Traffic Halo::traffic() const { return {bytes_sent_, messages_, g_collectives}; }
+
 void Halo::min_with_id(double& value, vtkIdType& id) const {
+  g_collectives += 2;
   double least = value;
   MPI_Allreduce(MPI_IN_PLACE, &least, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
   long long mine = value == least ? static_cast<long long>(id)
@@ -140,22 +147,26 @@ void Halo::min_with_id(double& value, vtkIdType& id) const {
 }
 
 int Halo::max(int value) const {
+  ++g_collectives;
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return value;
 }
 
 long Halo::max(long value) const {
+  ++g_collectives;
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
   return value;
 }
 
 long Halo::sum(long value) const {
+  ++g_collectives;
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   return value;
 }
 
 std::string first_error(const std::string& mine) {
   const int rank = comm_rank(), size = comm_size();
+  ++g_collectives;
   int first = mine.empty() ? size : rank;
   MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
   if (first == size) return {};
@@ -169,6 +180,7 @@ std::string first_error(const std::string& mine) {
 
 std::vector<double> Halo::gather_all(const std::vector<double>& mine,
                                      std::vector<int>* per_rank) const {
+  g_collectives += 2;
   int count = static_cast<int>(mine.size());
   std::vector<int> counts(size_), offsets(size_ + 1, 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
@@ -178,6 +190,29 @@ std::vector<double> Halo::gather_all(const std::vector<double>& mine,
                  MPI_DOUBLE, MPI_COMM_WORLD);
   if (per_rank) *per_rank = counts;
   return all;
+}
+
+std::vector<std::string> Halo::gather_to_root(const std::string& mine) const {
+  g_collectives += 3;
+  long total = static_cast<long>(mine.size());  // the same verdict on every rank
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  BRITTLE_CHECK(total < (1L << 31) - 1, "decomposed run: ", total,
+                " bytes to gather on rank 0 (expected below 2 GiB: a grid this large is "
+                "rendered afterwards, brittle render RUN_DIR)");
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size_), offsets(size_ + 1, 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::string all;
+  if (rank_ == 0) {
+    for (int r = 0; r < size_; ++r) offsets[r + 1] = offsets[r] + counts[r];
+    all.resize(static_cast<std::size_t>(offsets[size_]));
+  }
+  MPI_Gatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR,
+              0, MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  if (rank_ == 0)
+    for (int r = 0; r < size_; ++r) out.push_back(all.substr(offsets[r], counts[r]));
+  return out;
 }
 
 void Halo::sum(std::vector<ExactSum>& sums) const {

@@ -84,6 +84,15 @@ class Halo {
   /// Nodes of the whole grid before any split, and its cells.
   vtkIdType initial_nodes() const { return initial_nodes_; }
   vtkIdType cells() const { return static_cast<vtkIdType>(cell_part_.size()); }
+  /// What this rank has sent and called so far (docs/parallel.md, "Scaling"): ghost bytes and
+  /// messages sent point to point, and collective calls (every rank makes the same ones).
+  struct Traffic {
+    long bytes_sent = 0, messages = 0, collectives = 0;
+  };
+  Traffic traffic() const;
+
+  /// Every rank's bytes on rank 0, in rank order (MPI_Gatherv); empty on the other ranks.
+  std::vector<std::string> gather_to_root(const std::string& mine) const;
   /// Every rank's values, rank after rank (MPI_Allgatherv).
   /// `per_rank`, if given, gets each rank's count.
   std::vector<double> gather_all(const std::vector<double>& mine,
@@ -117,6 +126,7 @@ class Halo {
   bool holds(vtkIdType global_cell, int rank) const;
 
   int rank_ = 0, size_ = 1;
+  long bytes_sent_ = 0, messages_ = 0;
   std::vector<int> cell_part_;                  ///< per global cell (static)
   std::vector<std::int64_t> holder_start_;      ///< per global cell: the ranks holding it (CSR)
   std::vector<int> holders_;

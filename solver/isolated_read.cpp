@@ -158,11 +158,6 @@ std::string read_isolated(const std::string& what, const std::string& reader,
   return bytes.substr(1);
 }
 
-namespace {
-
-/// The pieces of a decomposed run's frame as the serial run's grid: a node shared by pieces
-/// once, nodes and cells in the serial order (their global_node / global_cell arrays), so that
-/// piece boundaries are not seen as crack faces and frames render as the serial ones.
 vtkSmartPointer<vtkUnstructuredGrid> joined_by_serial_ids(vtkUnstructuredGrid& g,
                                                           const std::string& what) {
   vtkDataArray* nodes = g.GetPointData()->GetArray("global_node");
@@ -211,8 +206,6 @@ vtkSmartPointer<vtkUnstructuredGrid> joined_by_serial_ids(vtkUnstructuredGrid& g
   out->GetCellData()->RemoveArray("global_cell");
   return out;
 }
-
-}  // namespace
 
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
                                                        const std::string& what) {

@@ -36,6 +36,13 @@ std::string read_isolated(const std::string& what, const std::string& reader,
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu_isolated(const std::string& path,
                                                        const std::string& what);
 
+/// The pieces of a decomposed run's frame, appended into `g`, as the serial run's grid: a node
+/// shared by pieces once, nodes and cells in the serial order (their global_node / global_cell
+/// arrays, then dropped), so that piece boundaries are not seen as crack faces and frames
+/// render as the serial ones. `g` itself if it has no such arrays.
+vtkSmartPointer<vtkUnstructuredGrid> joined_by_serial_ids(vtkUnstructuredGrid& g,
+                                                          const std::string& what);
+
 /// Replaces control bytes (and bytes that are not UTF-8) with \xNN escapes, so that a message
 /// that quotes a binary file prints as one harmless line.
 std::string escape_control(const std::string& text);

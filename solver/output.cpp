@@ -1,6 +1,8 @@
 // VTU/PVD time series, energy CSV and run summary (SPEC 9).
 #include "output.hpp"
 
+#include "isolated_read.hpp"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -11,7 +13,10 @@
 #include <vtkPolyData.h>
 #include <vtkXMLDataElement.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
 #include <vtkXMLUtilities.h>
 
 #include <fcntl.h>
@@ -297,7 +302,8 @@ std::string parallel_summary(const char* type, vtkDataSet* piece,
   return out.str();
 }
 
-/// This rank's piece of the grid: its own cells, their nodes, every array, the serial ids.
+}  // namespace
+
 vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& halo) {
   vtkUnstructuredGrid* g = grid.vtk();
   std::vector<vtkIdType> node(grid.num_points(), -1), nodes, cells;
@@ -343,6 +349,57 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& ha
   piece->GetFieldData()->ShallowCopy(g->GetFieldData());
   return piece;
 }
+
+vtkSmartPointer<vtkUnstructuredGrid> whole_grid(const Simulation& sim) {
+  const Halo* halo = sim.halo();
+  if (!halo) return sim.grid().vtk();
+  auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+  writer->SetInputData(grid_piece(sim.grid(), *halo));
+  writer->SetDataModeToBinary();  // the values' bytes, exactly
+  writer->SetCompressorTypeToNone();
+  writer->WriteToOutputStringOn();
+  writer->Write();
+  const std::vector<std::string> pieces = halo->gather_to_root(writer->GetOutputString());
+  if (halo->rank() != 0) return nullptr;
+  // The pieces one after the other (as VTK's parallel reader gives a .pvtu), then joined.
+  auto all = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> grids;
+  vtkIdType np = 0, nc = 0;
+  for (const std::string& bytes : pieces) {
+    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    reader->ReadFromInputStringOn();
+    reader->SetInputString(bytes);
+    reader->Update();
+    grids.push_back(reader->GetOutput());
+    np += grids.back()->GetNumberOfPoints(), nc += grids.back()->GetNumberOfCells();
+  }
+  all->GetPointData()->CopyAllocate(grids.front()->GetPointData(), np);
+  all->GetCellData()->CopyAllocate(grids.front()->GetCellData(), nc);
+  vtkNew<vtkIdList> ids;
+  vtkIdType offset = 0;
+  for (const auto& g : grids) {
+    for (vtkIdType p = 0; p < g->GetNumberOfPoints(); ++p) {
+      const vtkIdType q = points->InsertNextPoint(g->GetPoint(p));
+      all->GetPointData()->CopyData(g->GetPointData(), p, q);
+    }
+    for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
+      g->GetCellPoints(c, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) ids->SetId(k, ids->GetId(k) + offset);
+      const vtkIdType d = cells->InsertNextCell(ids);
+      all->GetCellData()->CopyData(g->GetCellData(), c, d);
+    }
+    offset += g->GetNumberOfPoints();
+  }
+  all->SetPoints(points);
+  all->SetCells(VTK_TETRA, cells);
+  all->GetFieldData()->ShallowCopy(grids.front()->GetFieldData());
+  return joined_by_serial_ids(*all, "the run's pieces");
+}
+
+namespace {
 
 }  // namespace
 
@@ -563,6 +620,19 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["tet_updates_per_second"] = measured("tet_updates_per_second", s.tet_updates_per_second);
   for (const auto& [name, seconds] : s.phases.named())
     j["phases"][name] = measured(std::string("phases.") + name, seconds);
+  if (!s.ranks.empty()) {  // a decomposed run: what each rank held, used and sent
+    nlohmann::ordered_json& d = j["decomposition"];
+    d["collectives"] = s.collectives;
+    d["collectives_per_step"] = s.steps > 0 ? double(s.collectives) / s.steps : 0.0;
+    for (std::size_t r = 0; r < s.ranks.size(); ++r) {
+      const RunSummary::Rank& k = s.ranks[r];
+      d["ranks"].push_back({{"rank", r},
+                            {"tets", k.tets},
+                            {"peak_rss_mb", k.peak_rss_kb / 1024.0},
+                            {"ghost_bytes_per_step", s.steps > 0 ? double(k.bytes_sent) / s.steps : 0.0},
+                            {"messages_per_step", s.steps > 0 ? double(k.messages) / s.steps : 0.0}});
+    }
+  }
   j["initial_energy"] = measured("initial_energy", s.initial_elastic);
   j["final_kinetic"] = measured("final_kinetic", e.kinetic);
   j["final_elastic"] = measured("final_elastic", e.elastic);

@@ -77,6 +77,15 @@ class PieceSeriesWriter : public Observer {
   int frames_ = 0;
 };
 
+/// This rank's piece of the grid: its own cells, their nodes, every point and cell array, and
+/// the serial ids (point array global_node, cell array global_cell).
+vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& halo);
+
+/// The run's whole grid as the serial run's (render.times): the live grid of a serial run; in
+/// a decomposed run (collective) every rank's piece gathered and joined by serial ids on rank
+/// 0, null on the other ranks.
+vtkSmartPointer<vtkUnstructuredGrid> whole_grid(const Simulation& sim);
+
 /// <dir>/crack_tip.csv at the end of the run: t, tip x, tip y, splits, smoothed speed.
 class CrackTipCsvWriter : public Observer {
  public:

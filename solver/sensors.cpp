@@ -63,33 +63,55 @@ Spectrum amplitude_spectrum(const std::vector<double>& times, const std::vector<
   return s;
 }
 
-SensorRecorder::SensorRecorder(const Scene& scene, std::string directory)
-    : sensors_(scene.sensors), directory_(std::move(directory)), values_(scene.sensors.size()) {}
+SensorRecorder::SensorRecorder(const Scene& scene, std::string directory, bool writes)
+    : sensors_(scene.sensors), directory_(std::move(directory)), writes_(writes),
+      values_(scene.sensors.size()) {}
 
 void SensorRecorder::on_start(const Simulation& sim) {
   const Grid& g = sim.grid();
-  nodes_.clear();
-  for (const SensorParams& p : sensors_) {  // the nearest node of the reference configuration
-    vtkIdType best = 0;
+  const Halo* halo = sim.halo();
+  nodes_.clear(), global_.clear(), positions_.assign(3 * sensors_.size(), 0.0);
+  std::vector<double> mine;  // (sensor, X) of the sensors this rank reads
+  for (std::size_t k = 0; k < sensors_.size(); ++k) {
+    const SensorParams& p = sensors_[k];
+    // The nearest node of the reference configuration, the first on ties (nodes are in serial
+    // order on every rank); a decomposed run's ranks look at their own nodes and agree.
+    vtkIdType best = -1;
     double d_best = std::numeric_limits<double>::infinity();
     for (vtkIdType i = 0; i < g.num_points(); ++i) {
+      if (halo && !halo->owned()[i]) continue;
       const double* X = g.X() + 3 * i;
       const double d = (X[0] - p.position[0]) * (X[0] - p.position[0]) +
                        (X[1] - p.position[1]) * (X[1] - p.position[1]) +
                        (X[2] - p.position[2]) * (X[2] - p.position[2]);
       if (d < d_best) d_best = d, best = i;
     }
+    vtkIdType id = best >= 0 && halo ? halo->global_node()[best] : best;
+    if (halo) {
+      const vtkIdType here = id;
+      halo->min_with_id(d_best, id);
+      if (here != id) best = -1;
+    }
     nodes_.push_back(best);
+    global_.push_back(id);
+    if (best >= 0) mine.insert(mine.end(), {double(k), g.X()[3 * best], g.X()[3 * best + 1],
+                                            g.X()[3 * best + 2]});
   }
+  const std::vector<double> all = halo ? halo->gather_all(mine) : mine;
+  for (std::size_t i = 0; i + 3 < all.size(); i += 4)
+    std::copy(&all[i + 1], &all[i + 4], &positions_[3 * static_cast<std::size_t>(all[i])]);
   if (sim.resumed()) return;  // on_resume kept the rows so far
-  out_ = std::make_unique<RowFile>(directory_ + "/sensors.csv", /*truncate=*/true);
-  std::string header = "time";
-  for (const SensorParams& p : sensors_) header += ',' + p.name;
-  out_->append(header + "\n");
+  if (writes_) {
+    out_ = std::make_unique<RowFile>(directory_ + "/sensors.csv", /*truncate=*/true);
+    std::string header = "time";
+    for (const SensorParams& p : sensors_) header += ',' + p.name;
+    out_->append(header + "\n");
+  }
   record(sim);
 }
 
 void SensorRecorder::on_resume(const Simulation& sim) {
+  if (!writes_) return;
   // One row per step and the row at t = 0: keep what the run wrote up to its checkpoint.
   const std::string path = directory_ + "/sensors.csv";
   std::ifstream in(path);
@@ -115,16 +137,24 @@ void SensorRecorder::on_resume(const Simulation& sim) {
 
 void SensorRecorder::record(const Simulation& sim) {
   const double* v = sim.grid().v();
+  std::vector<double> mine;  // (sensor, value) of the sensors this rank reads
+  for (std::size_t k = 0; k < sensors_.size(); ++k) {
+    if (nodes_[k] < 0) continue;
+    const double* n = sensors_[k].direction;
+    const double* vi = v + 3 * nodes_[k];
+    mine.insert(mine.end(), {double(k), vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2]});
+  }
+  const std::vector<double> all = sim.halo() ? sim.halo()->gather_all(mine) : mine;
+  if (!writes_) return;
+  std::vector<double> value(sensors_.size());
+  for (std::size_t i = 0; i + 1 < all.size(); i += 2) value[static_cast<std::size_t>(all[i])] = all[i + 1];
   times_.push_back(sim.time());
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", sim.time());
   pending_ += text;
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
-    const double* n = sensors_[i].direction;
-    const double* vi = v + 3 * nodes_[i];
-    const double value = vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2];
-    values_[i].push_back(value);
-    std::snprintf(text, sizeof text, ",%.17g", value);
+    values_[i].push_back(value[i]);
+    std::snprintf(text, sizeof text, ",%.17g", value[i]);
     pending_ += text;
   }
   pending_ += '\n';
@@ -140,7 +170,8 @@ void SensorRecorder::on_checkpoint(const Simulation&, const std::string&) {
   if (out_ && !pending_.empty()) out_->append(std::exchange(pending_, {}));
 }
 
-void SensorRecorder::on_finish(const Simulation& sim, const RunSummary&) {
+void SensorRecorder::on_finish(const Simulation&, const RunSummary&) {
+  if (!writes_) return;
   if (out_ && !pending_.empty()) out_->append(std::exchange(pending_, {}));
   std::vector<Spectrum> spectra;
   for (const auto& v : values_) spectra.push_back(amplitude_spectrum(times_, v));
@@ -157,9 +188,9 @@ void SensorRecorder::on_finish(const Simulation& sim, const RunSummary&) {
   write_file_atomically(directory_ + "/spectra.csv", csv.str());
   nlohmann::ordered_json j = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < sensors_.size(); ++i) {
-    const double* X = sim.grid().X() + 3 * nodes_[i];
+    const double* X = &positions_[3 * i];
     j.push_back({{"name", sensors_[i].name},
-                 {"node", nodes_[i]},
+                 {"node", global_[i]},
                  {"position", {X[0], X[1], X[2]}},
                  {"direction",
                   {sensors_[i].direction[0], sensors_[i].direction[1], sensors_[i].direction[2]}},

@@ -15,6 +15,8 @@
 #include <tuple>
 
 #include "checkpoint.hpp"
+
+#include <sys/resource.h>
 #include "error.hpp"
 #include "partition.hpp"
 
@@ -404,6 +406,23 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     p.warnings.push_back(w);
     for (Observer* o : observers) o->on_warning(*this, w);
   };
+  std::string local_error;  // this rank's first error since the last agreement (below)
+  // Observers called on every rank of a decomposed run (some of them collective, e.g. the
+  // sensors) must not leave one rank alone on an error: each call's error is kept for the
+  // next agreement, and every observer is still called.
+  auto each = [&](auto&& call) {
+    for (Observer* o : observers) {
+      if (!halo_) {
+        call(o);
+        continue;
+      }
+      try {
+        call(o);
+      } catch (const std::exception& e) {
+        if (local_error.empty()) local_error = e.what();
+      }
+    }
+  };
   // Energy row and frame if due; returns whether a frame was written.
   auto emit = [&]() {
     PhaseClock clock;
@@ -439,7 +458,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     bool frame = false;
     if (p.next_frame < frames.size() && due(frames[p.next_frame])) {
       update_output_fields();
-      for (Observer* o : observers) o->on_frame(*this);
+      each([&](Observer* o) { o->on_frame(*this); });
       ++p.frames_written;
       frame = true;
       while (p.next_frame < frames.size() && due(frames[p.next_frame])) ++p.next_frame;
@@ -458,13 +477,12 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     ++summary.checkpoints;
     summary.checkpoint = path;
     summary.checkpoint_time = time_;
-    for (Observer* o : observers) o->on_checkpoint(*this, path);
+    each([&](Observer* o) { o->on_checkpoint(*this, path); });
     clock.lap(own_times_.output);
   };
   auto stop_requested = [this]() { return stop_flag_ && stop_flag_->load() != 0; };
   // A decomposed run agrees before every step: a stop asked on any rank stops all, and a
   // writer that failed on one rank fails the run on all (the first rank's error is named).
-  std::string local_error;
   auto agreed = [&](bool stop) {
     if (!halo_) return stop;
     const std::string first = first_error(local_error);
@@ -481,9 +499,9 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     }
   };
 
-  if (resumed_)
-    for (Observer* o : observers) o->on_resume(*this);
-  for (Observer* o : observers) o->on_start(*this);
+  if (resumed_) each([&](Observer* o) { o->on_resume(*this); });
+  each([&](Observer* o) { o->on_start(*this); });
+  agreed(false);  // a decomposed run: an error above, on any rank, ends every rank here
   try {
     bool frame_now = resumed_ ? false : emit_here();
     bool interrupted = false;
@@ -501,7 +519,7 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
                        : end);
       p.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       for (const std::string& w : take_step_warnings()) warn(w);
-      for (Observer* o : observers) o->on_step(*this);
+      each([&](Observer* o) { o->on_step(*this); });
       frame_now = emit_here();
       if (checkpoint_interval > 0 && due(p.next_checkpoint)) {
         checkpoint();
@@ -519,14 +537,14 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       checkpoint();
       if (!frame_now) {
         update_output_fields();
-        for (Observer* o : observers) o->on_frame(*this);
+        each([&](Observer* o) { o->on_frame(*this); });
         ++p.frames_written;
       }
       summary.status = "interrupted";
     } else {
       if (summary.stopped_at_cut && !frame_now) {  // the last frame shows the cut plate
         update_output_fields();
-        for (Observer* o : observers) o->on_frame(*this);
+        each([&](Observer* o) { o->on_frame(*this); });
         ++p.frames_written;
       }
       if (checkpoint_interval > 0 &&
@@ -557,6 +575,14 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
       fixed += halo_->owned()[i] && (grid_.fixed()[i] & 7) != 0;
     summary.fixed_nodes = halo_->sum(fixed);
     summary.live_links = halo_->sum(summary.live_links);
+    const Halo::Traffic t = halo_->traffic();
+    summary.collectives = t.collectives;
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const std::vector<double> all = halo_->gather_all(
+        {double(grid_.num_cells()), double(usage.ru_maxrss), double(t.bytes_sent), double(t.messages)});
+    for (std::size_t i = 0; i + 3 < all.size(); i += 4)
+      summary.ranks.push_back({long(all[i]), long(all[i + 1]), long(all[i + 2]), long(all[i + 3])});
   }
   summary.tet_updates_per_second = wall > 0 ? double(steps_) * summary.tets / wall : 0.0;
   summary.final_dt = dt_;

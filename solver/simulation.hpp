@@ -112,6 +112,14 @@ struct RunSummary {
   double checkpoint_seconds = 0;    ///< wall time spent writing them (part of phases.output)
   CutThrough cut_through;           ///< when and where the plate was cut through, if it was
   bool stopped_at_cut = false;      ///< the run stopped there (run.stop_when_cut_through)
+  /// A decomposed run, per rank in rank order (docs/parallel.md, "Scaling"); empty if serial.
+  struct Rank {
+    long tets = 0;         ///< cells it holds (own and ghost)
+    long peak_rss_kb = 0;  ///< its process's peak resident memory at the end of the run
+    long bytes_sent = 0, messages = 0;  ///< ghost values sent point to point over the run
+  };
+  std::vector<Rank> ranks;
+  long collectives = 0;             ///< collective calls of each rank over the run
 };
 
 /// Where the step loop stands between two steps: what is due next and what was emitted. Part

@@ -38,7 +38,7 @@ nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(read_
 nlohmann::json physics_of(nlohmann::json j) {
   for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases", "threads",
                           "scene_sources", "checkpoint", "checkpoint_time", "checkpoints_written",
-                          "checkpoint_bytes", "checkpoint_seconds"})
+                          "checkpoint_bytes", "checkpoint_seconds", "decomposition"})
     j.erase(key);
   j.erase("scene");  // the command's keys (directory, threads), as scene_sources
   return j;
