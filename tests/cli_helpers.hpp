@@ -19,6 +19,20 @@
 
 namespace brittle_test {
 
+/// Whether this build runs under AddressSanitizer (GCC defines __SANITIZE_ADDRESS__, clang
+/// answers __has_feature): timings are not checked there.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
 namespace fs = std::filesystem;
 
 /// A fresh directory under the system temp dir, removed with everything in it.
