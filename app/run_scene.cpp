@@ -126,10 +126,12 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
                 disk / 1e9, wall);
   out << text;
   if (ranks <= 1) return;
-  // Over N ranks (docs/parallel.md): each rank holds its part (own and ghost cells: the same
-  // 0.69 kB per tet) and, in this version, whole-grid index arrays of about 40 B per tet
-  // (partition, global-to-local maps, the ranks holding each cell); rank 0 also meshes the
-  // whole plate. One thread per rank steps at about 10 M tet-updates/s on the build machine.
+  // Over N ranks: the peak memory of a rank, fitted to 1-8 ranks on 0.1-3.1 M tets
+  // (docs/parallel.md, "Scaling"): 125 MB + 589 B per tet of its part (own and ghost cells) +
+  // 154 B per tet of the whole grid (the mesh every rank receives, the partition and the
+  // whole-grid index arrays of this version); rank 0, which meshes or reads the whole plate,
+  // 146 MB + 536 B + 196 B. One thread per rank steps at about 10 M tet-updates/s on the build
+  // machine.
   const Partition p = partition_grid(sim.grid(), ranks);
   std::snprintf(text, sizeof text,
                 "  over %d ranks (METIS; imbalance %.3f, %.2f%% of the tets computed twice):\n"
@@ -140,7 +142,8 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
   long most = 0;
   for (int r = 0; r < ranks; ++r) {
     const PartStats& s = p.stats[r];
-    const double part = 130e6 + 690.0 * double(s.owned_cells + s.ghost_cells) + 40.0 * tets;
+    const double held = double(s.owned_cells + s.ghost_cells);
+    const double part = r == 0 ? 146e6 + 536.0 * held + 196.0 * tets : 125e6 + 589.0 * held + 154.0 * tets;
     most = std::max(most, s.owned_cells + s.ghost_cells);
     std::snprintf(text, sizeof text, "  %5d %10ld %10ld %10ld %10ld %10d %8.2g GB\n", r,
                   s.owned_cells, s.ghost_cells, s.owned_nodes, s.ghost_nodes, s.neighbours,
@@ -148,11 +151,12 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
     out << text;
   }
   std::snprintf(text, sizeof text,
-                "  memory    per rank: 130 MB + 0.69 kB per tet of its part + 40 B per tet of "
-                "the whole grid;\n"
-                "            rank 0 meshes the whole plate first (~%.2g GB)\n"
+                "  memory    peak per rank: 125 MB + 589 B per tet of its part + 154 B per tet of "
+                "the whole grid\n"
+                "            (rank 0, which meshes the plate: 146 MB + 536 B + 196 B; "
+                "docs/parallel.md, \"Scaling\")\n"
                 "  wall      ~%.2g s stepping at 10 M tet-updates/s per rank (one thread each)\n",
-                memory / 1e9, steps * double(most) / 10e6);
+                steps * double(most) / 10e6);
   out << text;
 }
 
