@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <tuple>
@@ -135,15 +136,42 @@ void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
 
 Halo::Traffic Halo::traffic() const { return {bytes_sent_, messages_, g_collectives}; }
 
+namespace {
+
+/// (value, id) pairs: the smaller value, the smaller id on ties; a NaN value is the smallest
+/// (as the stable-step scan takes the first NaN). A total order, so the reduction is
+/// commutative and its result does not depend on how MPI groups the ranks.
+void least_value_then_id(void* in, void* inout, int* len, MPI_Datatype*) {
+  const double* a = static_cast<const double*>(in);
+  double* b = static_cast<double*>(inout);
+  for (int i = 0; i < *len; ++i, a += 2, b += 2) {
+    const bool a_nan = std::isnan(a[0]), b_nan = std::isnan(b[0]);
+    const bool first = a_nan != b_nan                  ? a_nan
+                       : !a_nan && a[0] != b[0] ? a[0] < b[0]
+                                                : a[1] < b[1];  // equal (or both NaN): the id
+    if (first) b[0] = a[0], b[1] = a[1];
+  }
+}
+
+}  // namespace
+
 void Halo::min_with_id(double& value, vtkIdType& id) const {
-  g_collectives += 2;
-  double least = value;
-  MPI_Allreduce(MPI_IN_PLACE, &least, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
-  long long mine = value == least ? static_cast<long long>(id)
-                                  : std::numeric_limits<long long>::max();
-  MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
-  value = least;
-  id = static_cast<vtkIdType>(mine);
+  ++g_collectives;  // one reduction of (value, id) pairs (ids below 2^53 are exact doubles)
+  static const MPI_Datatype pair = [] {
+    MPI_Datatype t;
+    MPI_Type_contiguous(2, MPI_DOUBLE, &t);
+    MPI_Type_commit(&t);
+    return t;
+  }();
+  static const MPI_Op least = [] {
+    MPI_Op op;
+    MPI_Op_create(&least_value_then_id, /*commute=*/1, &op);
+    return op;
+  }();
+  double both[2] = {value, static_cast<double>(id)};
+  MPI_Allreduce(MPI_IN_PLACE, both, 1, pair, least, MPI_COMM_WORLD);
+  value = both[0];
+  id = static_cast<vtkIdType>(both[1]);
 }
 
 int Halo::max(int value) const {
@@ -158,6 +186,35 @@ long Halo::max(long value) const {
   return value;
 }
 
+void Halo::max(long* values, int count) const {
+  ++g_collectives;
+  MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+}
+
+namespace {
+
+/// The text of rank `from`'s error on every rank ("rank R: ..." but for rank 0), as
+/// first_error() names it.
+std::string broadcast_error(const std::string& mine, int from) {
+  long length = static_cast<long>(mine.size());
+  MPI_Bcast(&length, 1, MPI_LONG, from, MPI_COMM_WORLD);
+  std::string text = mine;
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, from, MPI_COMM_WORLD);
+  return from == 0 ? text : "rank " + std::to_string(from) + ": " + text;
+}
+
+}  // namespace
+
+bool Halo::agree(const std::string& mine, bool stop, std::string& first) const {
+  ++g_collectives;
+  // The lowest rank with an error is the largest of size - rank (0: none).
+  int values[2] = {mine.empty() ? 0 : size_ - rank_, stop ? 1 : 0};
+  MPI_Allreduce(MPI_IN_PLACE, values, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  first = values[0] == 0 ? std::string() : broadcast_error(mine, size_ - values[0]);
+  return values[1] != 0;
+}
+
 long Halo::sum(long value) const {
   ++g_collectives;
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
@@ -170,12 +227,7 @@ std::string first_error(const std::string& mine) {
   int first = mine.empty() ? size : rank;
   MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
   if (first == size) return {};
-  long length = static_cast<long>(mine.size());
-  MPI_Bcast(&length, 1, MPI_LONG, first, MPI_COMM_WORLD);
-  std::string text = mine;
-  text.resize(length);
-  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, first, MPI_COMM_WORLD);
-  return first == 0 ? text : "rank " + std::to_string(first) + ": " + text;
+  return broadcast_error(mine, first);
 }
 
 std::vector<double> Halo::gather_all(const std::vector<double>& mine,

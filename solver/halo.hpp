@@ -79,6 +79,12 @@ class Halo {
   /// Largest value over the ranks.
   int max(int value) const;
   long max(long value) const;
+  /// Each of `count` values the largest over the ranks, in one reduction.
+  void max(long* values, int count) const;
+  /// A decomposed run's agreement before a step, in one reduction: the error of the lowest
+  /// rank that has one (`mine`: this rank's, empty if none), as first_error() gives it, and
+  /// whether any rank asks to stop.
+  bool agree(const std::string& mine, bool stop, std::string& first) const;
   /// Sum over the ranks.
   long sum(long value) const;
   /// Nodes of the whole grid before any split, and its cells.

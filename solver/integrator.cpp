@@ -80,7 +80,7 @@ void Integrator::drift_unlinked(double dt) {
   }
 }
 
-int Integrator::advance_links(double dt, bool& capped) {
+int Integrator::advance_links(double dt) {
   // The weakening law unloads along f = f0 (1 - omega) delta / delta_max, a spring that no
   // element-sized step resolves while delta_max is small: the links kick inside the step
   // at dt / N (docs/model.md). Each group of links joined by shared nodes takes the N its
@@ -122,12 +122,10 @@ int Integrator::advance_links(double dt, bool& capped) {
       links.end_group(dt, g);
     }
   }
-  if (halo_) most = halo_->max(most);  // (the report and its warning: the same on every rank)
-  capped = most > CohesiveLinks::max_substeps;
-  return std::min(most, CohesiveLinks::max_substeps);
+  return most;
 }
 
-vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {
+vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock, int& needed) {
   // The element viscosity (B.5) sees the rate at which the nodes moved over the step: for
   // nodes that drifted through the links' sub-steps that is (x(n+1) - x(n)) / dt, not their
   // velocity after the last sub-step. Swapped into the grid for the computation only.
@@ -144,11 +142,13 @@ vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock) {
   }
   if (halo_) halo_->exchange(x, v);  // ghosts: x(n+1) and the rate the viscosity sees
   vtkIdType bad = forces_.compute_elements(grid_, dt);  // and the viscous work of the step
-  if (halo_) {  // the same verdict on every rank, naming the global cell
+  if (halo_) {  // the same verdict on every rank, naming the global cell; and the links' need
     constexpr long none = std::numeric_limits<long>::max();
     const long mine = bad >= 0 ? static_cast<long>(halo_->global_cell()[bad]) : none;
-    const long first = -halo_->max(-mine);  // the smallest over the ranks
-    bad = first == none ? -1 : static_cast<vtkIdType>(first);
+    long values[2] = {-mine, needed};  // one reduction: the smallest cell, the largest need
+    halo_->max(values, 2);
+    bad = -values[0] == none ? -1 : static_cast<vtkIdType>(-values[0]);
+    needed = static_cast<int>(values[1]);
   }
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (int k = 0; k < 3; ++k) v[3 * nodes[i] + k] = linked_v_[3 * i + k];
@@ -166,10 +166,13 @@ StepReport Integrator::step(double t, double dt) {
   kick(forces_.nodal_forces().data(), half_dt, t, t + half_dt);  // v(n+1/2): outer forces F(n)
   drift_unlinked(dt);                                 // x(n+1) of the nodes without links
   clock.lap(times_.kick_drift);
-  r.substeps = advance_links(dt, r.substeps_capped);  // linked nodes: inner forces (2.7)-(2.8)
+  int needed = advance_links(dt);  // linked nodes: inner forces (2.7)-(2.8)
   r.links_removed = links_.remove_broken(grid_.num_points());  // omega = 1: the link is gone
   clock.lap(times_.links);
-  r.bad_element = compute_element_forces(dt, clock);  // F(n+1): (B.4) + (B.5) at x(n+1)
+  r.bad_element = compute_element_forces(dt, clock, needed);  // F(n+1): (B.4) + (B.5) at x(n+1)
+  // (the report and its warning: the whole grid's need, the same on every rank)
+  r.substeps_capped = needed > CohesiveLinks::max_substeps;
+  r.substeps = std::min(needed, CohesiveLinks::max_substeps);
   if (r.bad_element >= 0) return r;
   // A decomposed run counts the cells it owns (the ghost cells are counted by their owners).
   const std::uint8_t* counted = halo_ ? halo_->owned_cells().data() : nullptr;

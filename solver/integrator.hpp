@@ -125,8 +125,12 @@ class Integrator {
   /// v += tau F/m on free components, then the boundary's loads and constraints.
   void kick(const double* force, double tau, double t_force, double t_velocity);
   void drift_unlinked(double dt);
-  int advance_links(double dt, bool& capped);
-  vtkIdType compute_element_forces(double dt, PhaseClock& clock);
+  /// Sub-steps the links' groups; returns the largest sub-step count a group of this rank
+  /// needed (before the cap).
+  int advance_links(double dt);
+  /// F(n+1); the first bad element (-1: none). A decomposed run agrees on it and on `needed`
+  /// (the links' largest need) in one reduction.
+  vtkIdType compute_element_forces(double dt, PhaseClock& clock, int& needed);
 
   Grid& grid_;
   const ElementData& elements_;

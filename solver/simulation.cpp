@@ -485,9 +485,10 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   // writer that failed on one rank fails the run on all (the first rank's error is named).
   auto agreed = [&](bool stop) {
     if (!halo_) return stop;
-    const std::string first = first_error(local_error);
+    std::string first;
+    stop = halo_->agree(local_error, stop, first);  // one reduction
     if (!first.empty()) throw Error(first);
-    return halo_->max(stop ? 1 : 0) != 0;
+    return stop;
   };
   auto emit_here = [&]() {
     if (!halo_) return emit();
