@@ -243,15 +243,7 @@ int run_command(const std::vector<std::string>& args) {
       brittle::CheckpointHeader header;
       brittle::Scene scene = brittle::resume_scene(dir, sets, &header);
       const int ranks = brittle::mpi_size();
-      BRITTLE_CHECK(header.pieces == static_cast<std::uint32_t>(ranks), "checkpoint '", dir,
-                    "/checkpoint.bin' was written by ",
-                    header.pieces == 0 ? std::string("a serial run")
-                                       : "a run over " + std::to_string(header.pieces) + " MPI ranks",
-                    ", this run has ", ranks, " (resuming on another rank count is not built "
-                    "yet: docs/checkpoint.md; expected ",
-                    header.pieces == 0 ? std::string("brittle run --resume without mpirun")
-                                       : "mpirun -np " + std::to_string(header.pieces),
-                    ")");
+      brittle::check_rank_count(header, brittle::checkpoint_path(dir), ranks);  // before the mesh
       const brittle::RunSummary s =
           brittle::run_decomposed(scene, {&progress}, &brittle::stop_signal(), true);
       if (brittle::mpi_rank() != 0)

@@ -89,9 +89,7 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   const std::string path = checkpoint_path(directory);
   CheckpointHeader header;
   Scene scene = resume_scene(directory, overrides, &header);
-  BRITTLE_CHECK(header.pieces == 0, "checkpoint '", path, "' was written by a run decomposed "
-                "over ", header.pieces, " MPI ranks (expected: mpirun -np ", header.pieces,
-                " brittle run --resume ", directory, ")");
+  check_rank_count(header, path, 0);  // before the mesh
   const RunLock lock(directory);  // before anything is written, until the end
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);

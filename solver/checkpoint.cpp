@@ -511,12 +511,24 @@ CheckpointHeader read_checkpoint_header(const std::string& path) {
   return load_file(path).header;
 }
 
+void check_rank_count(const CheckpointHeader& h, const std::string& path, int ranks) {
+  if (h.pieces == static_cast<std::uint32_t>(ranks)) return;
+  const std::string by = h.pieces == 0 ? std::string("a serial run")
+                                       : "a run over " + std::to_string(h.pieces) + " MPI ranks";
+  const std::string run = ranks == 0 ? std::string("a serial run")
+                                     : "a run over " + std::to_string(ranks) + " MPI ranks";
+  const std::string dir = fs::path(path).parent_path().string();
+  throw Error(error_message(
+      "checkpoint '", path, "' was written by ", by, ", this is ", run,
+      " (resuming on another rank count is not built yet: docs/checkpoint.md; expected: ",
+      h.pieces == 0 ? std::string() : "mpirun -np " + std::to_string(h.pieces) + " ",
+      "brittle run --resume ", dir, ")"));
+}
+
 void restore_checkpoint(Simulation& sim, const std::string& path) {
   const CheckpointFile f = load_file(path);
   const std::string what = "checkpoint '" + path + "'";
-  BRITTLE_CHECK(f.header.pieces == 0, what, " was written by a run decomposed over ",
-                f.header.pieces, " MPI ranks (expected: mpirun -np ", f.header.pieces,
-                " brittle run --resume DIR)");
+  check_rank_count(f.header, path, 0);
   check_fits(f, sim, what);
   load_state(sim, f, what);
 }
@@ -527,12 +539,7 @@ void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo) {
   std::string what, error;
   try {  // every check on every rank, agreed, before the collective load
     const CheckpointHeader h = read_checkpoint_header(manifest);
-    BRITTLE_CHECK(h.pieces == static_cast<std::uint32_t>(halo.size()), "checkpoint '", manifest,
-                  "' was written by ", h.pieces == 0 ? "a serial run" : "a run over ",
-                  h.pieces == 0 ? "" : std::to_string(h.pieces) + " MPI ranks",
-                  ", this run has ", halo.size(), " (resuming on another rank count is not "
-                  "built yet: docs/checkpoint.md; expected mpirun -np ",
-                  std::max<std::uint32_t>(h.pieces, 1), ")");
+    check_rank_count(h, manifest, halo.size());
     const std::string piece = checkpoint_piece_path(dir, h.generation, halo.rank());
     what = "checkpoint piece '" + piece + "'";
     f = load_file(piece);

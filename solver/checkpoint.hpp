@@ -189,6 +189,11 @@ std::size_t write_decomposed_checkpoint(const Simulation& sim, const Halo& halo)
 /// the checks of restore_checkpoint; a failure on any rank throws on every rank.
 void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo);
 
+/// Throws brittle::Error unless the checkpoint at `path` (its header `h`) was written by a run
+/// over `ranks` MPI ranks (0: a serial run), naming the rank count that wrote it and the
+/// command that resumes it (a resume on another rank count is not built yet).
+void check_rank_count(const CheckpointHeader& h, const std::string& path, int ranks);
+
 /// Reads the header of a checkpoint (version, scene sources, time); throws brittle::Error
 /// naming the file if it is not one.
 CheckpointHeader read_checkpoint_header(const std::string& path);

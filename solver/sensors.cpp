@@ -137,16 +137,20 @@ void SensorRecorder::on_resume(const Simulation& sim) {
 
 void SensorRecorder::record(const Simulation& sim) {
   const double* v = sim.grid().v();
-  std::vector<double> mine;  // (sensor, value) of the sensors this rank reads
+  std::vector<double>& mine = read_;  // (sensor, value) of the sensors this rank reads
+  mine.clear();
   for (std::size_t k = 0; k < sensors_.size(); ++k) {
     if (nodes_[k] < 0) continue;
     const double* n = sensors_[k].direction;
     const double* vi = v + 3 * nodes_[k];
     mine.insert(mine.end(), {double(k), vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2]});
   }
-  const std::vector<double> all = sim.halo() ? sim.halo()->gather_all(mine) : mine;
+  std::vector<double> gathered;  // a decomposed run: every rank's, on every rank
+  if (sim.halo()) gathered = sim.halo()->gather_all(mine);
   if (!writes_) return;
-  std::vector<double> value(sensors_.size());
+  const std::vector<double>& all = sim.halo() ? gathered : mine;
+  std::vector<double>& value = value_;
+  value.resize(sensors_.size());
   for (std::size_t i = 0; i + 1 < all.size(); i += 2) value[static_cast<std::size_t>(all[i])] = all[i + 1];
   times_.push_back(sim.time());
   char text[32];

@@ -49,6 +49,7 @@ class SensorRecorder : public Observer {
   std::vector<vtkIdType> nodes_;   // per sensor: the local node it reads, -1 if another rank's
   std::vector<vtkIdType> global_;  // per sensor: its node's serial id
   std::vector<double> positions_;  // per sensor: X of its node (3)
+  std::vector<double> read_, value_;  // record()'s buffers, kept between steps
   std::vector<double> times_;
   std::vector<std::vector<double>> values_;  // per sensor
   std::unique_ptr<RowFile> out_;  // sensors.csv, whole rows checked (output.hpp)

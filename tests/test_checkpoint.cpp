@@ -348,7 +348,7 @@ TEST(Mpi, DecomposedRunKilledInACheckpointResumesBitwise) {
 
   const std::string energies = read_text(part / "energies.csv");
   ASSERT_NE(run_mpi(dir, 3, {"run", "--resume", part.string()}, {}, &err), 0);
-  EXPECT_TRUE(contains(err, "over 2 MPI ranks, this run has 3")) << err;
+  EXPECT_TRUE(contains(err, "a run over 2 MPI ranks, this is a run over 3 MPI ranks")) << err;
   EXPECT_EQ(brittle_lines(err), 1) << err;
   const Result serial = run_brittle(dir, {"run", "--resume", part.string()});
   EXPECT_EQ(serial.exit_code, 2);
