@@ -240,10 +240,7 @@ int run_command(const std::vector<std::string>& args) {
                   "the checkpoint's; expected only --set run.end_time=T / run.threads=N)");
     brittle::install_stop_handlers();
     if (decomposed) {  // every rank its piece (docs/checkpoint.md)
-      brittle::CheckpointHeader header;
-      brittle::Scene scene = brittle::resume_scene(dir, sets, &header);
-      const int ranks = brittle::mpi_size();
-      brittle::check_rank_count(header, brittle::checkpoint_path(dir), ranks);  // before the mesh
+      brittle::Scene scene = brittle::resume_scene(dir, sets);
       const brittle::RunSummary s =
           brittle::run_decomposed(scene, {&progress}, &brittle::stop_signal(), true);
       if (brittle::mpi_rank() != 0)

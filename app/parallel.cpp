@@ -201,6 +201,20 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   auto mesh = shared_mesh(scene);
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<Halo> halo;
+  // A checkpoint of another rank count (or a serial one): every rank rebuilds the whole run's
+  // state from it, and takes its part once its Halo is made.
+  std::unique_ptr<Simulation> whole_state;
+  if (resume) {
+    on_every_rank([&] {
+      const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
+      if (h.pieces == static_cast<std::uint32_t>(ranks)) return;
+      whole_state = std::make_unique<Simulation>(scene, *mesh);
+      if (h.pieces == 0)
+        restore_checkpoint(*whole_state, checkpoint_path(dir));
+      else
+        absorb_pieces(*whole_state, *mesh, dir, h);
+    });
+  }
   {
     const Grid whole(*mesh);
     std::vector<int> cell_part(whole.num_cells(), 0);
@@ -216,7 +230,12 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     halo = std::make_unique<Halo>(whole, partition, part);
   }
   sim->decompose(*halo);
-  if (resume) restore_decomposed_checkpoint(*sim, *halo);  // the same error on every rank
+  if (whole_state) {
+    on_every_rank([&] { sim->take_part(*whole_state); });
+    whole_state = nullptr;
+  } else if (resume) {
+    restore_decomposed_checkpoint(*sim, *halo);  // the same error on every rank
+  }
   sim->set_stop_flag(stop);
   on_every_rank([&] {
     if (rank == 0 && !lock) lock.emplace(dir);
@@ -248,6 +267,24 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   for (auto& w : writers) observers.push_back(w.get());
   if (rank == 0) observers.insert(observers.end(), extra.begin(), extra.end());
   return sim->run(observers);
+}
+
+void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::string& directory,
+                   const CheckpointHeader& h) {
+  const Grid initial(mesh);
+  const int parts = static_cast<int>(h.pieces);
+  std::vector<int> cell_part(initial.num_cells(), 0);
+  if (parts > 1) cell_part = partition_grid(initial, parts).cell_part;
+  const Partition partition = partition_from(initial, std::move(cell_part), parts);
+  for (int p = 0; p < parts; ++p) {
+    LocalPart part = extract_part(initial, partition, p);
+    add_groups(mesh, part);
+    Simulation sim(whole.scene(), *part.mesh);
+    Halo halo(initial, partition, part, p, parts);
+    read_checkpoint_piece(sim, halo, directory, h);
+    whole.absorb_part(sim, halo);
+  }
+  whole.finish_absorbing();
 }
 
 bool launched_by_mpi() {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "checkpoint.hpp"
 #include "simulation.hpp"
 
 namespace brittle {
@@ -49,10 +50,19 @@ void begin_decomposed_run();
 /// render.times and physical-group regions (not built for decomposed runs yet). Rank 0 holds
 /// the directory's lock (run_lock.hpp) for the run; a refusal ends every rank before any
 /// writes. `extra` observers (progress) run on rank 0. With `resume` (the scene from
-/// resume_scene) every rank restores its piece of the checkpoint in the output directory,
-/// which must come from as many ranks, and the run goes on there.
+/// resume_scene) the run goes on from the checkpoint in the output directory: every rank
+/// restores its piece if as many ranks wrote it; else (a serial run's, or another rank
+/// count's) every rank rebuilds the whole run's state from it and takes its part
+/// (docs/checkpoint.md, "Another rank count").
 RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
                           const std::atomic<int>* stop, bool resume = false);
+
+/// The whole-grid simulation `whole`, built fresh from the scene on `mesh`, takes the state
+/// of the decomposed run's checkpoint `h` in `directory`: each piece is read into its part,
+/// cut from the mesh as the run that wrote it cut it (the same METIS partition), and
+/// absorbed (Simulation::absorb_part). Joins no other rank.
+void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::string& directory,
+                   const CheckpointHeader& h);
 
 /// `brittle partition SCENE.ini [MORE.ini ...] --ranks 2,4 [--set k=v ...]`: meshes the
 /// scene, partitions it for each rank count and prints the partition quality (ghost nodes,

@@ -9,6 +9,7 @@
 #include "checkpoint.hpp"
 #include "error.hpp"
 #include "output.hpp"
+#include "parallel.hpp"
 #include "partition.hpp"
 #include "scene_options.hpp"
 #include "plate_mesh.hpp"
@@ -89,11 +90,13 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   const std::string path = checkpoint_path(directory);
   CheckpointHeader header;
   Scene scene = resume_scene(directory, overrides, &header);
-  check_rank_count(header, path, 0);  // before the mesh
   const RunLock lock(directory);  // before anything is written, until the end
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);
-  restore_checkpoint(sim, path);
+  if (header.pieces > 0)  // a decomposed run's: its pieces re-cut into the whole grid
+    absorb_pieces(sim, *mesh, directory, header);
+  else
+    restore_checkpoint(sim, path);
   return run_simulation(sim, extra, stop);
 }
 

@@ -90,6 +90,8 @@ class Boundary {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// The source's works added if r.sums (recut.cpp).
+  void recut(const Boundary& src, const Recut& r);
 
  private:
   struct Constrained {  // one node of one velocity / fixed boundary

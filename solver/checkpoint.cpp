@@ -142,15 +142,24 @@ void Halo::state(Ar& ar) {
 }
 
 template <class Ar>
-void Simulation::state(Ar& ar) {
+void Simulation::fields(Ar& ar, Halo* halo) {
   io_all(ar, time_, dt_, initial_dt_, steps_, dt_reductions_, substep_cap_steps_,
          damage_dissipated_, initial_energy_, energy_reference_, tip_samples_,
          events_, progress_);
   io_all(ar, grid_, assembler_, links_, fracture_, damage_, boundary_);
-  if (halo_) io(ar, *halo_);  // a decomposed run's piece: this rank's ids and lists
-  if constexpr (Ar::loading) {
-    rebuild_fronts();
-  }
+  if (halo) io(ar, *halo);  // a decomposed run's piece: this rank's ids and lists
+}
+
+template <class Ar>
+void Simulation::state(Ar& ar) {
+  fields(ar, halo_);
+  if constexpr (Ar::loading) rebuild_fronts();
+}
+
+void Simulation::read_piece(StateReader& ar, Halo& halo) {
+  BRITTLE_CHECK(!halo_ && steps_ == 0, ar.what(), ": read into a run that has started");
+  fields(ar, &halo);
+  BRITTLE_CHECK(ar.done(), ar.what(), ": damaged (bytes left after the state)");
 }
 
 // ------------------------------------------------------------------------------------------
@@ -517,12 +526,9 @@ void check_rank_count(const CheckpointHeader& h, const std::string& path, int ra
                                        : "a run over " + std::to_string(h.pieces) + " MPI ranks";
   const std::string run = ranks == 0 ? std::string("a serial run")
                                      : "a run over " + std::to_string(ranks) + " MPI ranks";
-  const std::string dir = fs::path(path).parent_path().string();
-  throw Error(error_message(
-      "checkpoint '", path, "' was written by ", by, ", this is ", run,
-      " (resuming on another rank count is not built yet: docs/checkpoint.md; expected: ",
-      h.pieces == 0 ? std::string() : "mpirun -np " + std::to_string(h.pieces) + " ",
-      "brittle run --resume ", dir, ")"));
+  throw Error(error_message("checkpoint '", path, "' was written by ", by,
+                            ", this restore reads one of ", run,
+                            " (expected the resume of brittle run --resume, which re-cuts it)"));
 }
 
 void restore_checkpoint(Simulation& sim, const std::string& path) {
@@ -533,6 +539,24 @@ void restore_checkpoint(Simulation& sim, const std::string& path) {
   load_state(sim, f, what);
 }
 
+namespace {
+
+/// Rank `rank`'s piece of the set `h` names in `directory`, loaded and checked against the
+/// set's checksum and against `sim` (check_fits).
+CheckpointFile load_piece(const Simulation& sim, const std::string& directory,
+                          const CheckpointHeader& h, int rank, std::string& what) {
+  const std::string piece = checkpoint_piece_path(directory, h.generation, rank);
+  what = "checkpoint piece '" + piece + "'";
+  CheckpointFile f = load_file(piece);
+  const std::uint64_t sum = fnv1a(f.bytes.data(), f.bytes.size() - 8);
+  BRITTLE_CHECK(sum == h.piece_sums[rank], what, ": not the piece '", checkpoint_path(directory),
+                "' names (checksum; expected the set written with it)");
+  check_fits(f, sim, what);
+  return f;
+}
+
+}  // namespace
+
 void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo) {
   const std::string dir = sim.scene().output.directory, manifest = checkpoint_path(dir);
   CheckpointFile f;
@@ -540,19 +564,23 @@ void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo) {
   try {  // every check on every rank, agreed, before the collective load
     const CheckpointHeader h = read_checkpoint_header(manifest);
     check_rank_count(h, manifest, halo.size());
-    const std::string piece = checkpoint_piece_path(dir, h.generation, halo.rank());
-    what = "checkpoint piece '" + piece + "'";
-    f = load_file(piece);
-    const std::uint64_t sum = fnv1a(f.bytes.data(), f.bytes.size() - 8);
-    BRITTLE_CHECK(sum == h.piece_sums[halo.rank()], what, ": not the piece '", manifest,
-                  "' names (checksum; expected the set written with it)");
-    check_fits(f, sim, what);
+    f = load_piece(sim, dir, h, halo.rank(), what);
   } catch (const std::exception& e) {
     error = e.what();
   }
   const std::string first = first_error(error);
   if (!first.empty()) throw Error(first);
   load_state(sim, f, what);
+}
+
+void read_checkpoint_piece(Simulation& part, Halo& halo, const std::string& directory,
+                           const CheckpointHeader& h) {
+  BRITTLE_CHECK(halo.rank() < static_cast<int>(h.pieces), "checkpoint '",
+                checkpoint_path(directory), "': no piece ", halo.rank(), " (", h.pieces, " pieces)");
+  std::string what;
+  const CheckpointFile f = load_piece(part, directory, h, halo.rank(), what);
+  StateReader r(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);
+  part.read_piece(r, halo);
 }
 
 }  // namespace brittle

@@ -189,9 +189,17 @@ std::size_t write_decomposed_checkpoint(const Simulation& sim, const Halo& halo)
 /// the checks of restore_checkpoint; a failure on any rank throws on every rank.
 void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo);
 
+/// Reads the piece that rank halo.rank() wrote of the decomposed checkpoint `h` in
+/// `directory` into `part` (built fresh on that rank's part of the mesh; `halo` built offline
+/// for it), checked against the set's checksum and the scene: the first step of resuming on
+/// another rank count (Simulation::absorb_part). Joins no other rank.
+void read_checkpoint_piece(Simulation& part, Halo& halo, const std::string& directory,
+                           const CheckpointHeader& h);
+
 /// Throws brittle::Error unless the checkpoint at `path` (its header `h`) was written by a run
-/// over `ranks` MPI ranks (0: a serial run), naming the rank count that wrote it and the
-/// command that resumes it (a resume on another rank count is not built yet).
+/// over `ranks` MPI ranks (0: a serial run), naming the rank count that wrote it: the guard of
+/// restore_checkpoint and restore_decomposed_checkpoint (another count goes through
+/// read_checkpoint_piece and the re-cut of Simulation).
 void check_rank_count(const CheckpointHeader& h, const std::string& path, int ranks);
 
 /// Reads the header of a checkpoint (version, scene sources, time); throws brittle::Error

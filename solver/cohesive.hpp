@@ -149,6 +149,13 @@ class CohesiveLinks {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// Appends the source's links whose node a is taken (renamed), with their step values;
+  /// adds the removed links' dissipation if r.sums (recut.cpp).
+  void recut(const CohesiveLinks& src, const Recut& r);
+  /// After recut: the links in the order a serial run made them (by the node each was made
+  /// for, Appendix A's cut parts before the new link: `mother` gives every split node's
+  /// mother, -1 for a node of the mesh), if given; the linked nodes from the links.
+  void finish_recut(vtkIdType num_points, const std::vector<vtkIdType>* mother);
 
  private:
   void refresh_linked(vtkIdType num_points);

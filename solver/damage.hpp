@@ -49,6 +49,8 @@ class Damage {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// Per-cell evaluations and the update count from the source (recut.cpp).
+  void recut(const Damage& src, const Recut& r, vtkIdType num_points);
 
  private:
   DamageParams params_;

@@ -178,7 +178,7 @@ void ForceAssembler::load_connectivity(const Grid& grid) {
   }
 }
 
-void ForceAssembler::rebuild(const Grid& grid) {
+void ForceAssembler::rebuild_tables(const Grid& grid) {
   const vtkIdType np = grid.num_points(), ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
   BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
@@ -193,6 +193,10 @@ void ForceAssembler::rebuild(const Grid& grid) {
   for (vtkIdType i = 0; i < 4 * ne; ++i)
     node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
   load_connectivity(grid);
+}
+
+void ForceAssembler::rebuild(const Grid& grid) {
+  rebuild_tables(grid);
   gather_all(grid);
 }
 

@@ -178,6 +178,13 @@ class ForceAssembler {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// Per-element step values (P_v, viscous work, volume, stress bound, alpha1) and nodal forces
+  /// from the source (recut.cpp); rebuild_tables() once the grid is whole.
+  void recut(const ForceAssembler& src, const Recut& r);
+  /// The node -> (element, corner) table and the blocks' corner nodes from the grid's
+  /// connectivity, the nodal forces kept (rebuild() without the re-summing); the element
+  /// buffer is refilled on demand.
+  void rebuild_tables(const Grid& grid);
 
  private:
   void gather_all(const Grid& grid);

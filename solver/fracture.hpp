@@ -69,6 +69,8 @@ class Fracture {
 
   const std::vector<CohesiveLink>& links() const { return links_.links(); }
   long splits() const { return splits_; }
+  /// Per node: the node of the mesh it descends from.
+  const std::vector<vtkIdType>& roots() const { return root_; }
   /// Crack surface made so far, both faces: the sum of A_c over all splits [m^2].
   double crack_area() const { return crack_area_; }
   /// Crack tip: the split node with the largest reference x (SPEC 5); NaN before any split.
@@ -83,6 +85,8 @@ class Fracture {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// Roots (renamed) and the split counts from the source (recut.cpp).
+  void recut(const Fracture& src, const Recut& r);
 
  private:
   bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,

@@ -9,6 +9,8 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "recut.hpp"
+
 namespace brittle {
 
 /// Names of the arrays kept on the live grid (written as they are to VTU).
@@ -55,7 +57,8 @@ class Grid {
 
   /// Appends a copy of point k (position and every point-data tuple) and hands corner k of
   /// the given cells over to it; both are flagged as crack nodes. Returns the new point's id.
-  /// The only place that changes topology; views are refreshed.
+  /// The only topology change a step makes (a restore or a re-cut replaces the grid whole);
+  /// views are refreshed.
   vtkIdType split_node(vtkIdType k, const std::vector<vtkIdType>& cells);
 
   /// displacement = x - X, before output.
@@ -68,6 +71,9 @@ class Grid {
   /// Reads or writes the state a step changes (checkpoint.cpp, docs/checkpoint.md).
   template <class Archive>
   void state(Archive& ar);
+  /// Takes positions, nodal and element values and connectivity from a grid of the same run
+  /// cut differently (recut.cpp); the destination gets r.node_from.size() nodes.
+  void recut(const Grid& src, const Recut& r);
 
  private:
   vtkSmartPointer<vtkUnstructuredGrid> grid_;

@@ -31,7 +31,11 @@ long g_collectives = 0;  ///< collective calls of this process (Halo::traffic)
 }  // namespace
 
 Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
-    : rank_(comm_rank()), size_(comm_size()) {
+    : Halo(whole, partition, part, comm_rank(), comm_size()) {}
+
+Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part, int rank,
+           int size)
+    : rank_(rank), size_(size) {
   BRITTLE_CHECK(partition.parts == size_, "decomposed run: a partition into ", partition.parts,
                 " parts for ", size_, " ranks (expected one part per rank)");
   const vtkIdType n = whole.num_points(), m = whole.num_cells();
@@ -77,6 +81,61 @@ Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
   }
+  for (const auto& [r, q] : send) neighbour(r).send.push_back(local_node_[q]);
+  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local_node_[q]);
+}
+
+void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
+                 const std::vector<vtkIdType>& mother) {
+  const vtkIdType n = whole.num_points();
+  const vtkIdType* conn = whole.cells();
+  BRITTLE_CHECK(whole.num_cells() == cells() && n >= initial_nodes_,
+                "re-cut checkpoint: a grid of ", n, " nodes and ", whole.num_cells(),
+                " cells for a decomposition of ", initial_nodes_, " and ", cells());
+  auto root_of = [&](vtkIdType q) { return static_cast<std::size_t>(q) < root.size() ? root[q] : q; };
+  node_owner_.resize(initial_nodes_);
+  for (vtkIdType q = initial_nodes_; q < n; ++q) {  // a mother is older than her daughter
+    const vtkIdType m = static_cast<std::size_t>(q) < mother.size() ? mother[q] : -1;
+    BRITTLE_CHECK(m >= 0 && m < q, "re-cut checkpoint: node ", q, " has no split event");
+    node_owner_.push_back(node_owner_[m]);
+  }
+  global_nodes_ = n;
+  // The nodes held: those held at the start (the mesh's nodes of the local cells) and the
+  // daughters at a corner of a local cell now, in increasing global id.
+  std::vector<char> held(n, 0);
+  for (vtkIdType q : global_node_)
+    if (q < initial_nodes_) held[q] = 1;
+  for (vtkIdType e : global_cell_)
+    for (int c = 0; c < 4; ++c) held[conn[4 * e + c]] = 1;
+  global_node_.clear();
+  owned_.clear();
+  local_node_.assign(n, -1);
+  for (vtkIdType q = 0; q < n; ++q)
+    if (held[q]) {
+      local_node_[q] = static_cast<vtkIdType>(global_node_.size());
+      global_node_.push_back(q);
+      owned_.push_back(node_owner_[q] == rank_);
+    }
+  // Another rank holds an owned node of the mesh if it holds a cell with a corner descended
+  // from it, and an owned daughter if it holds a cell with the daughter at a corner; the
+  // owner holds every such cell.
+  std::vector<std::pair<int, vtkIdType>> send, recv;
+  for (vtkIdType e : global_cell_)
+    for (int c = 0; c < 4; ++c) {
+      const vtkIdType q = conn[4 * e + c], r = root_of(q);
+      for (vtkIdType p : {q, r}) {
+        if (node_owner_[p] != rank_) continue;
+        for (std::int64_t h = holder_start_[e]; h < holder_start_[e + 1]; ++h)
+          if (holders_[h] != rank_) send.emplace_back(holders_[h], p);
+      }
+    }
+  for (vtkIdType q : global_node_)
+    if (node_owner_[q] != rank_) recv.emplace_back(node_owner_[q], q);
+  for (auto* list : {&send, &recv}) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  neighbours_.clear();
   for (const auto& [r, q] : send) neighbour(r).send.push_back(local_node_[q]);
   for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local_node_[q]);
 }

@@ -52,6 +52,17 @@ class Halo {
   /// `whole`: the whole grid before any step (the same on every rank); `partition` of it;
   /// `part` = extract_part(whole, partition, rank of this process).
   Halo(const Grid& whole, const Partition& partition, const LocalPart& part);
+  /// The same for rank `rank` of `size`, without MPI: to read a checkpoint piece that rank
+  /// wrote (Simulation::read_piece). Its collective calls must not be used.
+  Halo(const Grid& whole, const Partition& partition, const LocalPart& part, int rank, int size);
+
+  /// Re-cuts a Halo built at the start of the run for the grid after the splits since
+  /// (Simulation::take_part): `whole` is the whole grid now, `root` and `mother` give each of
+  /// its nodes' node of the mesh and the node it split from (-1: none). Daughters are owned
+  /// where their mothers are; this rank holds its cells' nodes and every node it held at the
+  /// start; the ghost lists follow, in increasing global id.
+  void recut(const Grid& whole, const std::vector<vtkIdType>& root,
+             const std::vector<vtkIdType>& mother);
 
   int rank() const { return rank_; }
   int size() const { return size_; }
@@ -59,6 +70,11 @@ class Halo {
   const std::vector<vtkIdType>& global_node() const { return global_node_; }
   const std::vector<char>& owned() const { return owned_; }
   const std::vector<vtkIdType>& global_cell() const { return global_cell_; }
+  /// Global node -> local node (-1: not here), and global cell -> local cell.
+  const std::vector<vtkIdType>& local_nodes() const { return local_node_; }
+  const std::vector<vtkIdType>& local_cells() const { return local_cell_; }
+  /// The rank that owns global node q.
+  int owner(vtkIdType q) const { return node_owner_[q]; }
   /// Whether this rank owns the local cell (the other local cells are ghosts).
   bool owns_cell(vtkIdType local) const { return owned_cell_[local] != 0; }
   /// Per local cell: 1 if this rank owns it.

@@ -232,20 +232,25 @@ void VtuSeriesWriter::on_frame(const Simulation& sim) {
 
 namespace {
 
-/// Removes the files <dir>/frames/frame_NNNN<suffix> and links_NNNN<suffix> with NNNN >= keep
-/// for each suffix given (those the stopped run wrote after its checkpoint).
-void remove_frames_from(const std::string& directory, long keep,
-                        std::initializer_list<const char*> suffixes) {
+/// Removes the frame files <dir>/frames/frame_NNNN and links_NNNN with NNNN >= keep (those
+/// the stopped run wrote after its checkpoint): serial (.vtu, .vtp) and decomposed (.pvtu,
+/// .pvtp and the pieces _rR.vtu, _rR.vtp of any rank: the run may resume on another count).
+void remove_frames_from(const std::string& directory, long keep) {
   for (const auto& entry : fs::directory_iterator(directory + "/frames")) {
     const std::string name = entry.path().filename().string();
     if (!name.starts_with("frame_") && !name.starts_with("links_")) continue;
-    for (const char* suffix : suffixes) {
-      const std::string ext = suffix;
-      if (name.size() <= 6 + ext.size() || !name.ends_with(ext)) continue;
-      const std::string digits = name.substr(6, name.size() - 6 - ext.size());
-      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-      if (std::stol(digits) >= keep) fs::remove(entry.path());
+    const std::size_t dot = name.rfind('.');
+    if (dot == std::string::npos) continue;
+    const std::string ext = name.substr(dot);
+    if (ext != ".vtu" && ext != ".vtp" && ext != ".pvtu" && ext != ".pvtp") continue;
+    std::string stem = name.substr(6, dot - 6);
+    if (const std::size_t r = stem.find("_r"); r != std::string::npos && ext.size() == 4) {
+      const std::string rank = stem.substr(r + 2);
+      if (rank.empty() || rank.find_first_not_of("0123456789") != std::string::npos) continue;
+      stem.resize(r);
     }
+    if (stem.empty() || stem.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (std::stol(stem) >= keep) fs::remove(entry.path());
   }
 }
 
@@ -256,7 +261,7 @@ void VtuSeriesWriter::on_resume(const Simulation& sim) {
   grid_series_.resume(keep);
   if (sim.fracture().enabled()) link_series_.resume(keep);
   frames_ = static_cast<int>(keep);
-  remove_frames_from(directory_, keep, {".vtu", ".vtp"});
+  remove_frames_from(directory_, keep);
 }
 
 namespace {
@@ -471,12 +476,10 @@ void PieceSeriesWriter::on_frame(const Simulation& sim) {
 void PieceSeriesWriter::on_resume(const Simulation& sim) {
   const long keep = sim.progress().frames_written;
   frames_ = static_cast<int>(keep);
-  const std::string piece = "_r" + std::to_string(halo_.rank());
-  remove_frames_from(directory_, keep, {(piece + ".vtu").c_str(), (piece + ".vtp").c_str()});
-  if (halo_.rank() != 0) return;
+  if (halo_.rank() != 0) return;  // (no rank writes a frame before every rank has stepped)
   grid_series_.resume(keep);
   if (sim.fracture().enabled()) link_series_.resume(keep);
-  remove_frames_from(directory_, keep, {".pvtu", ".pvtp"});
+  remove_frames_from(directory_, keep);  // every rank's pieces, of any rank count
 }
 
 std::vector<PvdEntry> read_pvd(const std::string& path) {

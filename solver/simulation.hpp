@@ -140,6 +140,7 @@ struct RunProgress {
 
 class Simulation;
 class Halo;
+class StateReader;
 
 /// Frame times: output.frame_times, or every output.frame_interval, and the render.times (PNGs
 /// are rendered from frames), within [0, run.end_time], ascending, without repeats.
@@ -213,6 +214,21 @@ class Simulation {
   /// Reads or writes the whole state a step changes (checkpoint.cpp).
   template <class Archive>
   void state(Archive& ar);
+
+  /// Resuming on another rank count (recut.cpp, docs/checkpoint.md). A whole-grid simulation
+  /// built fresh from the scene takes the owned state of every part of a decomposed run's
+  /// checkpoint (`part` restored from its piece by read_piece, `halo` its decomposition),
+  /// then finish_absorbing() puts the links in the serial run's order and rebuilds the node
+  /// tables and the crack fronts.
+  void absorb_part(const Simulation& part, const Halo& halo);
+  void finish_absorbing();
+  /// A decomposed run's part, built fresh, takes its share of `whole` (a whole-grid
+  /// simulation of the same run restored from a checkpoint); its Halo is re-cut for the
+  /// splits since. Collective.
+  void take_part(const Simulation& whole);
+  /// Reads a checkpoint piece into this part of a decomposed run, `halo` built offline for
+  /// the rank that wrote it; joins no other rank (checkpoint.cpp).
+  void read_piece(StateReader& ar, Halo& halo);
 
   double time() const { return time_; }
   double dt() const { return dt_; }
@@ -302,6 +318,12 @@ class Simulation {
   bool resumed_ = false;
   std::uint64_t mesh_fingerprint_ = 0;
   Halo* halo_ = nullptr;
+  bool absorbed_ = false;  // absorb_part has taken a part
+  template <class Archive>
+  void fields(Archive& ar, Halo* halo);  // state() without the crack fronts' rebuild
+  void recut(const Simulation& src, const Recut& r, bool scalars);  // recut.cpp
+  /// Per node: the node it split from (-1: a node of the mesh), from the split events.
+  std::vector<vtkIdType> split_mothers() const;
   std::vector<GlobalSplit> global_splits_;
   vtkIdType initial_points_ = 0, fixed_nodes_ = 0;
 };
