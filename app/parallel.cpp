@@ -204,6 +204,7 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   // A checkpoint of another rank count (or a serial one): every rank rebuilds the whole run's
   // state from it, and takes its part once its Halo is made.
   std::unique_ptr<Simulation> whole_state;
+  std::vector<int> initial_owner;
   if (resume) {
     on_every_rank([&] {
       const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
@@ -227,11 +228,12 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     add_groups(*mesh, part);
     mesh = nullptr;  // the whole mesh is not needed from here on
     on_every_rank([&] { sim = std::make_unique<Simulation>(scene, *part.mesh); });
-    halo = std::make_unique<Halo>(whole, partition, part);
+    halo = std::make_unique<Halo>(part);
+    if (whole_state) initial_owner = partition.node_owner;
   }
   sim->decompose(*halo);
   if (whole_state) {
-    on_every_rank([&] { sim->take_part(*whole_state); });
+    on_every_rank([&] { sim->take_part(*whole_state, initial_owner); });
     whole_state = nullptr;
   } else if (resume) {
     restore_decomposed_checkpoint(*sim, *halo);  // the same error on every rank
@@ -280,7 +282,7 @@ void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::stri
     LocalPart part = extract_part(initial, partition, p);
     add_groups(mesh, part);
     Simulation sim(whole.scene(), *part.mesh);
-    Halo halo(initial, partition, part, p, parts);
+    Halo halo(part, p, parts);
     read_checkpoint_piece(sim, halo, directory, h);
     whole.absorb_part(sim, halo);
   }

@@ -134,7 +134,15 @@ void Halo::state(Ar& ar) {
   io_all(ar, rank, size);
   BRITTLE_CHECK(rank == rank_ && size == size_, ar.what(), ": a piece of rank ", rank, " of ",
                 size, ", read by rank ", rank_, " of ", size_);
-  io_all(ar, node_owner_, global_nodes_, global_node_, local_node_, owned_);
+  io_all(ar, owner_, global_nodes_, global_node_, owned_);
+  if constexpr (Ar::loading) {
+    BRITTLE_CHECK(owner_.size() == global_node_.size() && owned_.size() == global_node_.size() &&
+                      global_node_.size() >= mesh_nodes_,
+                  ar.what(), ": damaged (node tables)");
+    split_local_.clear();
+    for (std::size_t i = mesh_nodes_; i < global_node_.size(); ++i)
+      split_local_[global_node_[i]] = static_cast<vtkIdType>(i);
+  }
   std::uint64_t n = neighbours_.size();
   io(ar, n);
   if constexpr (Ar::loading) ar.check(n, 1), neighbours_.assign(n, Neighbour{});
@@ -230,11 +238,12 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 7;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 8;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                       // 4: Weibull strength keys; 5: no element forces (the
                                       // next step recomputes them before any use); 6: blocks
                                       // with h_e for the two viscosities, no viscous powers;
-                                      // 7: the piece count (decomposed runs' checkpoints)
+                                      // 7: the piece count (decomposed runs' checkpoints);
+                                      // 8: pieces without whole-grid node tables
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

@@ -2,6 +2,8 @@
 #include "halo.hpp"
 
 #include <mpi.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,119 +32,132 @@ long g_collectives = 0;  ///< collective calls of this process (Halo::traffic)
 
 }  // namespace
 
-Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part)
-    : Halo(whole, partition, part, comm_rank(), comm_size()) {}
+Halo::Halo(const LocalPart& part) : Halo(part, comm_rank(), comm_size()) {}
 
-Halo::Halo(const Grid& whole, const Partition& partition, const LocalPart& part, int rank,
-           int size)
-    : rank_(rank), size_(size) {
-  BRITTLE_CHECK(partition.parts == size_, "decomposed run: a partition into ", partition.parts,
+Halo::Halo(const LocalPart& part, int rank, int size)
+    : rank_(rank),
+      size_(size),
+      holder_start_(part.holder_start),
+      holders_(part.holders),
+      global_cell_(part.global_cell),
+      global_node_(part.global_node),
+      mesh_nodes_(part.global_node.size()),
+      owned_(part.owned),
+      owner_(part.owner),
+      global_nodes_(part.whole_nodes),
+      initial_nodes_(part.whole_nodes),
+      cells_(part.whole_cells) {
+  BRITTLE_CHECK(part.parts == size_, "decomposed run: a partition into ", part.parts,
                 " parts for ", size_, " ranks (expected one part per rank)");
-  const vtkIdType n = whole.num_points(), m = whole.num_cells();
-  const vtkIdType* conn = whole.cells();
-  cell_part_ = partition.cell_part;
-  node_owner_ = partition.node_owner;
-  global_nodes_ = initial_nodes_ = n;
-  // The ranks holding a cell: its part and the owners of its nodes (extract_part).
-  holder_start_.assign(m + 1, 0);
-  for (vtkIdType e = 0; e < m; ++e) {
-    int r[5] = {cell_part_[e], node_owner_[conn[4 * e]], node_owner_[conn[4 * e + 1]],
-                node_owner_[conn[4 * e + 2]], node_owner_[conn[4 * e + 3]]};
-    std::sort(r, r + 5);
-    int* end = std::unique(r, r + 5);
-    holders_.insert(holders_.end(), r, end);
-    holder_start_[e + 1] = static_cast<std::int64_t>(holders_.size());
+  const auto cells = static_cast<vtkIdType>(global_cell_.size());
+  BRITTLE_CHECK(holder_start_.size() == global_cell_.size() + 1 &&
+                    part.cell_part.size() == global_cell_.size() &&
+                    owner_.size() == global_node_.size() && owned_.size() == global_node_.size() &&
+                    part.mesh && part.mesh->GetNumberOfCells() == cells,
+                "decomposed run: the part's tables do not match its mesh");
+  for (vtkIdType i = 0; i < cells; ++i) {
+    owned_cell_.push_back(part.cell_part[i] == rank_);
+    BRITTLE_CHECK(holds(i, rank_), "decomposed run: cell ", global_cell_[i],
+                  " is not this rank's part");
   }
-  global_cell_ = part.global_cell;
-  global_node_ = part.global_node;
-  owned_ = part.owned;
-  for (vtkIdType e : global_cell_) owned_cell_.push_back(cell_part_[e] == rank_);
-  local_cell_.assign(m, -1);
-  for (std::size_t i = 0; i < global_cell_.size(); ++i) local_cell_[global_cell_[i]] = i;
-  local_node_.assign(n, -1);
-  for (std::size_t i = 0; i < global_node_.size(); ++i) local_node_[global_node_[i]] = i;
-  for (vtkIdType e : global_cell_)
-    BRITTLE_CHECK(holds(e, rank_), "decomposed run: cell ", e, " is not this rank's part");
-
   // Send: owned nodes of the local cells to the other holders of those cells. Receive: nodes
   // of the local cells that others own. Both sides derive the same lists, in global order.
-  std::vector<std::pair<int, vtkIdType>> send, recv;
-  for (vtkIdType e : global_cell_)
-    for (int c = 0; c < 4; ++c) {
-      const vtkIdType q = conn[4 * e + c];
-      if (node_owner_[q] == rank_) {
-        for (std::int64_t h = holder_start_[e]; h < holder_start_[e + 1]; ++h)
-          if (holders_[h] != rank_) send.emplace_back(holders_[h], q);
+  std::vector<std::tuple<int, vtkIdType, vtkIdType>> send, recv;  // rank, global, local
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType i = 0; i < cells; ++i) {
+    part.mesh->GetCellPoints(i, ids);
+    for (vtkIdType c = 0; c < ids->GetNumberOfIds(); ++c) {
+      const vtkIdType q = ids->GetId(c);
+      if (owner_[q] == rank_) {
+        for (std::int64_t h = holder_start_[i]; h < holder_start_[i + 1]; ++h)
+          if (holders_[h] != rank_) send.emplace_back(holders_[h], global_node_[q], q);
       } else {
-        recv.emplace_back(node_owner_[q], q);
+        recv.emplace_back(owner_[q], global_node_[q], q);
       }
     }
+  }
   for (auto* list : {&send, &recv}) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
   }
-  for (const auto& [r, q] : send) neighbour(r).send.push_back(local_node_[q]);
-  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local_node_[q]);
+  for (const auto& [r, g, q] : send) neighbour(r).send.push_back(q);
+  for (const auto& [r, g, q] : recv) neighbour(r).recv.push_back(q);
+}
+
+vtkIdType Halo::local_node(vtkIdType global) const {
+  if (global < initial_nodes_) {
+    const auto end = global_node_.begin() + static_cast<std::ptrdiff_t>(mesh_nodes_);
+    const auto it = std::lower_bound(global_node_.begin(), end, global);
+    return it != end && *it == global ? it - global_node_.begin() : -1;
+  }
+  const auto it = split_local_.find(global);
+  return it == split_local_.end() ? -1 : it->second;
+}
+
+vtkIdType Halo::local_cell(vtkIdType global) const {
+  const auto it = std::lower_bound(global_cell_.begin(), global_cell_.end(), global);
+  return it != global_cell_.end() && *it == global ? it - global_cell_.begin() : -1;
 }
 
 void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
-                 const std::vector<vtkIdType>& mother) {
+                 const std::vector<vtkIdType>& mother, const std::vector<int>& initial_owner) {
   const vtkIdType n = whole.num_points();
   const vtkIdType* conn = whole.cells();
-  BRITTLE_CHECK(whole.num_cells() == cells() && n >= initial_nodes_,
+  BRITTLE_CHECK(whole.num_cells() == cells_ && n >= initial_nodes_ &&
+                    static_cast<vtkIdType>(initial_owner.size()) == initial_nodes_,
                 "re-cut checkpoint: a grid of ", n, " nodes and ", whole.num_cells(),
-                " cells for a decomposition of ", initial_nodes_, " and ", cells());
+                " cells for a decomposition of ", initial_nodes_, " and ", cells_);
   auto root_of = [&](vtkIdType q) { return static_cast<std::size_t>(q) < root.size() ? root[q] : q; };
-  node_owner_.resize(initial_nodes_);
+  std::vector<int> owner(initial_owner);  // (the whole state is on every rank here anyway)
   for (vtkIdType q = initial_nodes_; q < n; ++q) {  // a mother is older than her daughter
     const vtkIdType m = static_cast<std::size_t>(q) < mother.size() ? mother[q] : -1;
     BRITTLE_CHECK(m >= 0 && m < q, "re-cut checkpoint: node ", q, " has no split event");
-    node_owner_.push_back(node_owner_[m]);
+    owner.push_back(owner[m]);
   }
   global_nodes_ = n;
   // The nodes held: those held at the start (the mesh's nodes of the local cells) and the
   // daughters at a corner of a local cell now, in increasing global id.
   std::vector<char> held(n, 0);
-  for (vtkIdType q : global_node_)
-    if (q < initial_nodes_) held[q] = 1;
+  for (std::size_t i = 0; i < mesh_nodes_; ++i) held[global_node_[i]] = 1;
   for (vtkIdType e : global_cell_)
     for (int c = 0; c < 4; ++c) held[conn[4 * e + c]] = 1;
-  global_node_.clear();
-  owned_.clear();
-  local_node_.assign(n, -1);
+  global_node_.clear(), owned_.clear(), owner_.clear(), split_local_.clear();
+  std::vector<vtkIdType> local(n, -1);
   for (vtkIdType q = 0; q < n; ++q)
     if (held[q]) {
-      local_node_[q] = static_cast<vtkIdType>(global_node_.size());
+      local[q] = static_cast<vtkIdType>(global_node_.size());
+      if (q >= initial_nodes_) split_local_[q] = local[q];
       global_node_.push_back(q);
-      owned_.push_back(node_owner_[q] == rank_);
+      owned_.push_back(owner[q] == rank_);
+      owner_.push_back(owner[q]);
     }
   // Another rank holds an owned node of the mesh if it holds a cell with a corner descended
   // from it, and an owned daughter if it holds a cell with the daughter at a corner; the
   // owner holds every such cell.
   std::vector<std::pair<int, vtkIdType>> send, recv;
-  for (vtkIdType e : global_cell_)
+  for (std::size_t i = 0; i < global_cell_.size(); ++i)
     for (int c = 0; c < 4; ++c) {
-      const vtkIdType q = conn[4 * e + c], r = root_of(q);
+      const vtkIdType q = conn[4 * global_cell_[i] + c], r = root_of(q);
       for (vtkIdType p : {q, r}) {
-        if (node_owner_[p] != rank_) continue;
-        for (std::int64_t h = holder_start_[e]; h < holder_start_[e + 1]; ++h)
+        if (owner[p] != rank_) continue;
+        for (std::int64_t h = holder_start_[i]; h < holder_start_[i + 1]; ++h)
           if (holders_[h] != rank_) send.emplace_back(holders_[h], p);
       }
     }
   for (vtkIdType q : global_node_)
-    if (node_owner_[q] != rank_) recv.emplace_back(node_owner_[q], q);
+    if (owner[q] != rank_) recv.emplace_back(owner[q], q);
   for (auto* list : {&send, &recv}) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
   }
   neighbours_.clear();
-  for (const auto& [r, q] : send) neighbour(r).send.push_back(local_node_[q]);
-  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local_node_[q]);
+  for (const auto& [r, q] : send) neighbour(r).send.push_back(local[q]);
+  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local[q]);
 }
 
-bool Halo::holds(vtkIdType e, int rank) const {
-  return std::binary_search(holders_.begin() + holder_start_[e],
-                            holders_.begin() + holder_start_[e + 1], rank);
+bool Halo::holds(vtkIdType i, int rank) const {
+  return std::binary_search(holders_.begin() + holder_start_[i],
+                            holders_.begin() + holder_start_[i + 1], rank);
 }
 
 Halo::Neighbour& Halo::neighbour(int rank) {
@@ -280,6 +295,30 @@ long Halo::sum(long value) const {
   return value;
 }
 
+double Halo::select(const std::vector<double>& mine, long k) const {
+  // Non-negative doubles are ordered as their bit patterns: find the smallest pattern v with
+  // more than k values <= v.
+  std::vector<std::uint64_t> bits(mine.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    BRITTLE_CHECK(mine[i] >= 0, "Halo::select: a negative value ", mine[i]);
+    std::memcpy(&bits[i], &mine[i], sizeof(double));
+  }
+  std::sort(bits.begin(), bits.end());
+  BRITTLE_CHECK(k >= 0 && k < sum(static_cast<long>(bits.size())), "Halo::select: no value ", k);
+  std::uint64_t lo = 0, hi = 0x7ff0000000000000ull;  // +inf
+  while (lo < hi) {
+    const std::uint64_t mid = lo + (hi - lo) / 2;
+    const long at_most = static_cast<long>(std::upper_bound(bits.begin(), bits.end(), mid) - bits.begin());
+    if (sum(at_most) > k)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  double v = 0;
+  std::memcpy(&v, &lo, sizeof v);
+  return v;
+}
+
 std::string first_error(const std::string& mine) {
   const int rank = comm_rank(), size = comm_size();
   ++g_collectives;
@@ -353,6 +392,7 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
   const vtkIdType before = static_cast<vtkIdType>(global_node_.size());
   global_node_.resize(grid.num_points(), -1);
   owned_.resize(grid.num_points(), 1);
+  owner_.resize(grid.num_points(), rank_);
   // Wire format: failure count, then per failure a, b, X (3), dissipated, A_c; per split:
   // sigma1, a, X (3), A_c, cell count, cells (doubles hold ids < 2^53).
   std::vector<double> wire{double(removed.size())};
@@ -406,31 +446,32 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
   std::vector<vtkIdType> cells;
   for (GlobalSplit& s : splits) {
     s.b = global_nodes_++;
-    const int owner = node_owner_[s.a];
-    node_owner_.push_back(owner);  // a daughter is owned where its mother is
-    local_node_.push_back(-1);
-    if (owner == rank_) {
+    // A daughter is owned where her mother is; a rank that does not hold the mother holds
+    // none of her cells, nor the daughter.
+    const vtkIdType A = local_node(s.a);
+    if (A >= 0 && owned_[A]) {
       // Own splits come in the same relative order (local order = global order).
-      BRITTLE_CHECK(next_own < own.size() && global_node_[own[next_own].a] == s.a,
+      BRITTLE_CHECK(next_own < own.size() && own[next_own].a == A,
                     "decomposed run: split of node ", s.a, " out of order");
       const vtkIdType B = own[next_own++].b;
       BRITTLE_CHECK(B >= before, "decomposed run: split node ", B, " is not new");
       global_node_[B] = s.b;
-      local_node_[s.b] = B;
+      split_local_[s.b] = B;
       for (Neighbour& n : neighbours_)
         if (std::any_of(s.b_cells.begin(), s.b_cells.end(),
-                        [&](vtkIdType c) { return holds(c, n.rank); }))
+                        [&](vtkIdType c) { return holds(local_cell(c), n.rank); }))
           n.send.push_back(B);
-    } else if (local_node_[s.a] >= 0) {
+    } else if (A >= 0) {
       cells.clear();
       for (vtkIdType c : s.b_cells)
-        if (local_cell_[c] >= 0) cells.push_back(local_cell_[c]);
+        if (const vtkIdType i = local_cell(c); i >= 0) cells.push_back(i);
       if (!cells.empty()) {
-        const vtkIdType B = fracture.apply_remote_split(grid, forces, local_node_[s.a], cells);
+        const vtkIdType B = fracture.apply_remote_split(grid, forces, A, cells);
         global_node_.push_back(s.b);
         owned_.push_back(0);
-        local_node_[s.b] = B;
-        neighbour(owner).recv.push_back(B);
+        owner_.push_back(owner_[A]);
+        split_local_[s.b] = B;
+        neighbour(owner_[A]).recv.push_back(B);
       }
     }
     fracture.count_split(s.A_c, s.X[0], s.X[1]);

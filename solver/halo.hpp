@@ -10,6 +10,7 @@
 #include <utility>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "exact_sum.hpp"
@@ -46,23 +47,25 @@ inline bool node_order(const GlobalFailure& p, const GlobalFailure& q) {
 }
 
 /// One rank's view of the decomposition and its messages (MPI_COMM_WORLD). Every call is
-/// collective: all ranks make the same calls in the same order.
+/// collective: all ranks make the same calls in the same order. It holds nothing sized by the
+/// whole grid: its part's nodes and cells, their owners and holders, and the split nodes it
+/// holds.
 class Halo {
  public:
-  /// `whole`: the whole grid before any step (the same on every rank); `partition` of it;
-  /// `part` = extract_part(whole, partition, rank of this process).
-  Halo(const Grid& whole, const Partition& partition, const LocalPart& part);
+  /// `part`: this process's part (extract_part, or read from a partitioned mesh).
+  explicit Halo(const LocalPart& part);
   /// The same for rank `rank` of `size`, without MPI: to read a checkpoint piece that rank
   /// wrote (Simulation::read_piece). Its collective calls must not be used.
-  Halo(const Grid& whole, const Partition& partition, const LocalPart& part, int rank, int size);
+  Halo(const LocalPart& part, int rank, int size);
 
   /// Re-cuts a Halo built at the start of the run for the grid after the splits since
   /// (Simulation::take_part): `whole` is the whole grid now, `root` and `mother` give each of
-  /// its nodes' node of the mesh and the node it split from (-1: none). Daughters are owned
-  /// where their mothers are; this rank holds its cells' nodes and every node it held at the
-  /// start; the ghost lists follow, in increasing global id.
+  /// its nodes' node of the mesh and the node it split from (-1: none), `initial_owner` the
+  /// owner of every node of the mesh. Daughters are owned where their mothers are; this rank
+  /// holds its cells' nodes and every node it held at the start; the ghost lists follow, in
+  /// increasing global id.
   void recut(const Grid& whole, const std::vector<vtkIdType>& root,
-             const std::vector<vtkIdType>& mother);
+             const std::vector<vtkIdType>& mother, const std::vector<int>& initial_owner);
 
   int rank() const { return rank_; }
   int size() const { return size_; }
@@ -70,11 +73,9 @@ class Halo {
   const std::vector<vtkIdType>& global_node() const { return global_node_; }
   const std::vector<char>& owned() const { return owned_; }
   const std::vector<vtkIdType>& global_cell() const { return global_cell_; }
-  /// Global node -> local node (-1: not here), and global cell -> local cell.
-  const std::vector<vtkIdType>& local_nodes() const { return local_node_; }
-  const std::vector<vtkIdType>& local_cells() const { return local_cell_; }
-  /// The rank that owns global node q.
-  int owner(vtkIdType q) const { return node_owner_[q]; }
+  /// Global node -> local node, global cell -> local cell (-1: not here).
+  vtkIdType local_node(vtkIdType global) const;
+  vtkIdType local_cell(vtkIdType global) const;
   /// Whether this rank owns the local cell (the other local cells are ghosts).
   bool owns_cell(vtkIdType local) const { return owned_cell_[local] != 0; }
   /// Per local cell: 1 if this rank owns it.
@@ -103,9 +104,12 @@ class Halo {
   bool agree(const std::string& mine, bool stop, std::string& first) const;
   /// Sum over the ranks.
   long sum(long value) const;
+  /// The k-th smallest (from 0) of every rank's values, all >= 0 (element volumes), without
+  /// gathering them: a bisection on the values' bits, one reduction per bit.
+  double select(const std::vector<double>& mine, long k) const;
   /// Nodes of the whole grid before any split, and its cells.
   vtkIdType initial_nodes() const { return initial_nodes_; }
-  vtkIdType cells() const { return static_cast<vtkIdType>(cell_part_.size()); }
+  vtkIdType cells() const { return cells_; }
   /// What this rank has sent and called so far (docs/parallel.md, "Scaling"): ghost bytes and
   /// messages sent point to point, and collective calls (every rank makes the same ones).
   struct Traffic {
@@ -145,22 +149,23 @@ class Halo {
   Neighbour& neighbour(int rank);
   /// Owned nodes' values of the fields (pointer, values per node) to their ghost copies.
   void send_ghosts(std::initializer_list<std::pair<double*, int>> fields);
-  bool holds(vtkIdType global_cell, int rank) const;
+  /// Whether `rank` holds the local cell.
+  bool holds(vtkIdType local_cell, int rank) const;
 
   int rank_ = 0, size_ = 1;
   long bytes_sent_ = 0, messages_ = 0;
-  std::vector<int> cell_part_;                  ///< per global cell (static)
-  std::vector<std::int64_t> holder_start_;      ///< per global cell: the ranks holding it (CSR)
+  std::vector<std::int64_t> holder_start_;      ///< per local cell: the ranks holding it (CSR)
   std::vector<int> holders_;
-  std::vector<vtkIdType> global_cell_;          ///< local -> global
-  std::vector<vtkIdType> local_cell_;           ///< global -> local (-1: not here)
-  std::vector<vtkIdType> global_node_;          ///< local -> global
-  std::vector<vtkIdType> local_node_;           ///< global -> local (-1: not here)
+  std::vector<vtkIdType> global_cell_;          ///< local -> global (increasing)
+  /// Local -> global: the mesh's nodes (increasing, the first mesh_nodes_), then split nodes.
+  std::vector<vtkIdType> global_node_;
+  std::size_t mesh_nodes_ = 0;
+  std::unordered_map<vtkIdType, vtkIdType> split_local_;  ///< global -> local, split nodes here
   std::vector<char> owned_;
+  std::vector<int> owner_;                      ///< per local node
   std::vector<std::uint8_t> owned_cell_;
-  std::vector<int> node_owner_;                 ///< per global node
   std::vector<Neighbour> neighbours_;           ///< in increasing rank
-  vtkIdType global_nodes_ = 0, initial_nodes_ = 0;
+  vtkIdType global_nodes_ = 0, initial_nodes_ = 0, cells_ = 0;
 };
 
 }  // namespace brittle

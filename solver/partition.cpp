@@ -181,6 +181,19 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
       b[2 * d] = std::min(b[2 * d], grid.X()[3 * k + d]),
       b[2 * d + 1] = std::max(b[2 * d + 1], grid.X()[3 * k + d]);
   part.mesh->GetFieldData()->AddArray(bounds);
+  // What the Halo needs of the whole partition, for this part only.
+  for (vtkIdType k : part.global_node) part.owner.push_back(partition.node_owner[k]);
+  part.holder_start.push_back(0);
+  for (vtkIdType e : part.global_cell) {
+    part.cell_part.push_back(partition.cell_part[e]);
+    int r[5] = {partition.cell_part[e], partition.node_owner[conn[4 * e]],
+                partition.node_owner[conn[4 * e + 1]], partition.node_owner[conn[4 * e + 2]],
+                partition.node_owner[conn[4 * e + 3]]};
+    std::sort(r, r + 5);
+    part.holders.insert(part.holders.end(), r, std::unique(r, r + 5));
+    part.holder_start.push_back(static_cast<std::int64_t>(part.holders.size()));
+  }
+  part.whole_nodes = n, part.whole_cells = m, part.parts = partition.parts;
   return part;
 }
 

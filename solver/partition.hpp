@@ -47,6 +47,14 @@ struct LocalPart {
   std::vector<vtkIdType> global_cell;         ///< local cell -> global cell (increasing)
   std::vector<vtkIdType> global_node;         ///< local node -> global node (increasing)
   std::vector<char> owned;                    ///< per local node: owned by this rank
+  std::vector<int> owner;                     ///< per local node: the rank that owns it
+  std::vector<int> cell_part;                 ///< per local cell: the rank that owns it
+  /// Per local cell: the ranks that hold it (its part and its nodes' owners), ascending, in
+  /// holders[holder_start[i], holder_start[i + 1]).
+  std::vector<std::int64_t> holder_start;
+  std::vector<int> holders;
+  vtkIdType whole_nodes = 0, whole_cells = 0;  ///< the whole grid's
+  int parts = 1;
 };
 
 /// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured

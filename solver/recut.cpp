@@ -244,20 +244,22 @@ void Simulation::finish_absorbing() {
   mark_resumed();
 }
 
-void Simulation::take_part(const Simulation& whole) {
+void Simulation::take_part(const Simulation& whole, const std::vector<int>& initial_owner) {
   BRITTLE_CHECK(halo_, "re-cut checkpoint: take_part needs a decomposed run");
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "re-cut checkpoint: the run has started");
   Halo& halo = *halo_;
   const std::vector<vtkIdType> mother = whole.split_mothers();
-  halo.recut(whole.grid(), whole.fracture().roots(), mother);
+  halo.recut(whole.grid(), whole.fracture().roots(), mother, initial_owner);
   Recut r;
   r.node_from = halo.global_node();
   r.cell_from = halo.global_cell();
-  r.node_to = halo.local_nodes();
-  r.cell_to = halo.local_cells();
-  r.link_taken.resize(whole.grid().num_points());
-  for (vtkIdType q = 0; q < whole.grid().num_points(); ++q)
-    r.link_taken[q] = halo.owner(q) == halo.rank();
+  const vtkIdType n = whole.grid().num_points(), m = whole.grid().num_cells();
+  r.node_to.assign(n, -1);
+  for (std::size_t p = 0; p < r.node_from.size(); ++p) r.node_to[r.node_from[p]] = static_cast<vtkIdType>(p);
+  r.cell_to.assign(m, -1);
+  for (std::size_t e = 0; e < r.cell_from.size(); ++e) r.cell_to[r.cell_from[e]] = static_cast<vtkIdType>(e);
+  r.link_taken.assign(n, 0);  // the links of the nodes this rank owns
+  for (std::size_t p = 0; p < r.node_from.size(); ++p) r.link_taken[r.node_from[p]] = halo.owned()[p];
   r.sums = halo.rank() == 0;  // rank 0 takes the whole sums, the others none
   recut(whole, r, true);
   assembler_.rebuild_tables(grid_);

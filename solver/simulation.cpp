@@ -23,19 +23,19 @@
 namespace brittle {
 namespace {
 
-/// The typical element size: the median over elements of the edge of a regular tet of the
-/// element's volume (a band mesh has most of its elements in the band, where cracks run).
-double typical_element_size(std::vector<double> h) {
-  if (h.empty()) return 0;
-  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
-  return std::cbrt(6.0 * std::sqrt(2.0) * h[h.size() / 2]);
+/// The median of the element volumes (the upper one of an even count).
+double median_volume(std::vector<double> V0) {
+  if (V0.empty()) return 0;
+  std::nth_element(V0.begin(), V0.begin() + V0.size() / 2, V0.end());
+  return V0[V0.size() / 2];
 }
 
 /// Crack fronts seeded at the notch tips: join = 4 h, separation = 8 h (docs/crack_fronts.md:
 /// on CM, splits along a running crack skip nodes, and 2.5 h took the main crack for a chain
-/// of nucleations).
-CrackFronts make_fronts(const Scene& scene, const std::vector<double>& V0) {
-  const double h = typical_element_size(V0);
+/// of nucleations), h the typical element size: the edge of a regular tet of the median
+/// element volume (a band mesh has most of its elements in the band, where cracks run).
+CrackFronts make_fronts(const Scene& scene, double median_V0) {
+  const double h = std::cbrt(6.0 * std::sqrt(2.0) * median_V0);
   CrackFronts f(4.0 * h, 8.0 * h);
   const GeometryParams& g = scene.geometry;
   if (g.notches.empty()) {
@@ -80,7 +80,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
       boundary_(scene, grid_, reference_mesh),
       integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_),
-      fronts_(make_fronts(scene, elements_.V0)) {
+      fronts_(make_fronts(scene, median_volume(elements_.V0))) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
   lump_masses(grid_, elements_, constants_.rho0);
@@ -137,11 +137,11 @@ void Simulation::reset_cracks() {
 }
 
 CrackFronts Simulation::make_crack_fronts() const {
-  if (!halo_) return make_fronts(scene_, elements_.V0);
+  if (!halo_) return make_fronts(scene_, median_volume(elements_.V0));
   std::vector<double> owned;  // the median of the whole grid's volumes, as in serial
   for (vtkIdType e = 0; e < grid_.num_cells(); ++e)
     if (halo_->owns_cell(e)) owned.push_back(elements_.V0[e]);
-  return make_fronts(scene_, halo_->gather_all(owned));
+  return make_fronts(scene_, halo_->select(owned, halo_->cells() / 2));
 }
 
 void Simulation::decompose(Halo& halo) {

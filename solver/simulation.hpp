@@ -224,8 +224,9 @@ class Simulation {
   void finish_absorbing();
   /// A decomposed run's part, built fresh, takes its share of `whole` (a whole-grid
   /// simulation of the same run restored from a checkpoint); its Halo is re-cut for the
-  /// splits since. Collective.
-  void take_part(const Simulation& whole);
+  /// splits since (`initial_owner`: the partition's owner of every node of the mesh).
+  /// Collective.
+  void take_part(const Simulation& whole, const std::vector<int>& initial_owner);
   /// Reads a checkpoint piece into this part of a decomposed run, `halo` built offline for
   /// the rank that wrote it; joins no other rank (checkpoint.cpp).
   void read_piece(StateReader& ar, Halo& halo);

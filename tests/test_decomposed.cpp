@@ -61,7 +61,7 @@ Crossings expect_serial_bits(const Scene& scene, int checks, int steps,
                                   : partition_from(whole, std::move(cell_part), ranks());
   const LocalPart part = extract_part(whole, partition, rank());
   Simulation local(scene, *part.mesh);
-  Halo halo(whole, partition, part);
+  Halo halo(part);
   local.decompose(halo);
   EXPECT_EQ(local.dt(), serial.dt());
   Crossings seen;
