@@ -23,6 +23,10 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkFieldData.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkStringArray.h>
+#include <vtkIdTypeArray.h>
 
 #include "boundary.hpp"
 #include "command_line.hpp"
@@ -136,6 +140,123 @@ void add_groups(vtkUnstructuredGrid& whole, LocalPart& part) {
 }
 
 /// Rank 0's mesh on every rank: points, tets and physical groups, broadcast.
+/// The scene's keys that shape the mesh: a piece of a partitioned mesh records them, and a run
+/// reads only pieces made for its own.
+std::string mesh_signature(const Scene& scene) {
+  std::string s;
+  for (const auto& [name, value] : scene_entries(scene))
+    if ((name.starts_with("geometry.") || name.starts_with("mesh.") ||
+         name.starts_with("notch.")) &&
+        name != "mesh.parts" && name != "mesh.max_elements")
+      s += name + " = " + value + "\n";
+  return s;
+}
+
+std::string part_path(const std::string& directory, int rank) {
+  return directory + "/part_" + std::to_string(rank) + ".vtu";
+}
+
+constexpr const char* kPartIds = "brittle_part";  // field data: whole nodes, cells, parts, rank
+constexpr const char* kPartSignature = "brittle_part_mesh";
+constexpr const char* kHolders = "brittle_holders";  // cell data, 5 ranks, -1 padded
+constexpr int kMaxHolders = 5;                        // a cell's part and its 4 nodes' owners
+
+template <class Array, class T>
+void add_values(vtkFieldData* data, const char* name, const std::vector<T>& values, int components = 1) {
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
+  for (std::size_t i = 0; i < values.size(); ++i) a->SetValue(static_cast<vtkIdType>(i), values[i]);
+  data->AddArray(a);
+}
+
+/// Writes rank `rank`'s part (extract_part, with its groups) as one piece of a partitioned
+/// mesh: its mesh and, as arrays, what its Halo needs.
+void write_part(LocalPart& part, int rank, const std::string& signature, const std::string& path) {
+  vtkUnstructuredGrid& mesh = *part.mesh;
+  add_values<vtkIdTypeArray>(mesh.GetPointData(), "global_node", part.global_node);
+  add_values<vtkIntArray>(mesh.GetPointData(), "owner", part.owner);
+  add_values<vtkIdTypeArray>(mesh.GetCellData(), "global_cell", part.global_cell);
+  add_values<vtkIntArray>(mesh.GetCellData(), "cell_part", part.cell_part);
+  std::vector<int> holders;
+  for (std::size_t i = 0; i + 1 < part.holder_start.size(); ++i)
+    for (int k = 0; k < kMaxHolders; ++k) {
+      const std::int64_t h = part.holder_start[i] + k;
+      holders.push_back(h < part.holder_start[i + 1] ? part.holders[h] : -1);
+    }
+  add_values<vtkIntArray>(mesh.GetCellData(), kHolders, holders, kMaxHolders);
+  add_values<vtkIdTypeArray>(mesh.GetFieldData(), kPartIds,
+                             std::vector<vtkIdType>{part.whole_nodes, part.whole_cells, part.parts, rank},
+                             4);
+  auto text = vtkSmartPointer<vtkStringArray>::New();
+  text->SetName(kPartSignature);
+  text->InsertNextValue(signature);
+  mesh.GetFieldData()->AddArray(text);
+  write_vtu_file(mesh, path);
+}
+
+/// Takes array `name` out of `data` (throws naming the piece if it is missing or too short).
+vtkSmartPointer<vtkDataArray> take(vtkFieldData* data, const char* name, vtkIdType tuples,
+                                   int components, const std::string& path) {
+  vtkSmartPointer<vtkDataArray> a = data->GetArray(name);
+  BRITTLE_CHECK(a && a->GetNumberOfTuples() == tuples && a->GetNumberOfComponents() == components,
+                "mesh.parts: '", path, "' has no array '", name,
+                "' of its size (expected a piece written by brittle partition --out)");
+  data->RemoveArray(name);
+  return a;
+}
+
+/// Rank `rank`'s piece of the partitioned mesh mesh.parts names, for a run over `ranks`.
+LocalPart read_part(const Scene& scene, int rank, int ranks) {
+  const std::string path = part_path(scene.mesh.parts, rank);
+  BRITTLE_CHECK(std::filesystem::is_regular_file(path), "mesh.parts = ", scene.mesh.parts,
+                ": no part_", rank, ".vtu (expected the pieces of `brittle partition SCENE.ini "
+                "--ranks ", ranks, " --out DIR`: DIR/parts_", ranks, ")");
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  LocalPart part;
+  part.mesh = reader->GetOutput();
+  BRITTLE_CHECK(part.mesh && part.mesh->GetNumberOfCells() > 0, "mesh.parts: '", path,
+                "' is not a readable piece (expected a .vtu written by brittle partition --out)");
+  vtkFieldData* field = part.mesh->GetFieldData();
+  auto ids = take(field, kPartIds, 1, 4, path);
+  auto* signature = vtkStringArray::SafeDownCast(field->GetAbstractArray(kPartSignature));
+  BRITTLE_CHECK(signature && signature->GetNumberOfValues() == 1, "mesh.parts: '", path,
+                "' has no mesh keys (expected a piece written by brittle partition --out)");
+  part.whole_nodes = static_cast<vtkIdType>(ids->GetComponent(0, 0));
+  part.whole_cells = static_cast<vtkIdType>(ids->GetComponent(0, 1));
+  part.parts = static_cast<int>(ids->GetComponent(0, 2));
+  BRITTLE_CHECK(part.parts == ranks && ids->GetComponent(0, 3) == rank, "mesh.parts: '", path,
+                "' is part ", ids->GetComponent(0, 3), " of ", part.parts, ", this is rank ", rank,
+                " of ", ranks, " (expected the pieces for mpirun -np ", ranks, ": parts_", ranks, ")");
+  BRITTLE_CHECK(signature->GetValue(0) == mesh_signature(scene), "mesh.parts: '", path,
+                "' was cut from another mesh (its [geometry], [mesh] or [notch] keys differ from "
+                "the scene's; expected brittle partition run on this scene)");
+  field->RemoveArray(kPartSignature);
+  const vtkIdType np = part.mesh->GetNumberOfPoints(), nc = part.mesh->GetNumberOfCells();
+  auto global_node = take(part.mesh->GetPointData(), "global_node", np, 1, path);
+  auto owner = take(part.mesh->GetPointData(), "owner", np, 1, path);
+  auto global_cell = take(part.mesh->GetCellData(), "global_cell", nc, 1, path);
+  auto cell_part = take(part.mesh->GetCellData(), "cell_part", nc, 1, path);
+  auto holders = take(part.mesh->GetCellData(), kHolders, nc, kMaxHolders, path);
+  for (vtkIdType k = 0; k < np; ++k) {
+    part.global_node.push_back(static_cast<vtkIdType>(global_node->GetComponent(k, 0)));
+    part.owner.push_back(static_cast<int>(owner->GetComponent(k, 0)));
+    part.owned.push_back(part.owner.back() == rank);
+  }
+  part.holder_start.push_back(0);
+  for (vtkIdType e = 0; e < nc; ++e) {
+    part.global_cell.push_back(static_cast<vtkIdType>(global_cell->GetComponent(e, 0)));
+    part.cell_part.push_back(static_cast<int>(cell_part->GetComponent(e, 0)));
+    for (int k = 0; k < kMaxHolders; ++k)
+      if (const int h = static_cast<int>(holders->GetComponent(e, k)); h >= 0) part.holders.push_back(h);
+    part.holder_start.push_back(static_cast<std::int64_t>(part.holders.size()));
+  }
+  return part;
+}
+
 vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   vtkSmartPointer<vtkUnstructuredGrid> mesh;
   std::vector<double> points;
@@ -198,25 +319,38 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   on_every_rank([&] {
     if (rank == 0 && std::filesystem::is_directory(dir)) lock.emplace(dir);
   });
-  auto mesh = shared_mesh(scene);
   std::unique_ptr<Simulation> sim;
   std::unique_ptr<Halo> halo;
   // A checkpoint of another rank count (or a serial one): every rank rebuilds the whole run's
   // state from it, and takes its part once its Halo is made.
   std::unique_ptr<Simulation> whole_state;
   std::vector<int> initial_owner;
-  if (resume) {
+  if (!scene.mesh.parts.empty()) {  // each rank reads its part: no rank holds the whole mesh
     on_every_rank([&] {
-      const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
-      if (h.pieces == static_cast<std::uint32_t>(ranks)) return;
-      whole_state = std::make_unique<Simulation>(scene, *mesh);
-      if (h.pieces == 0)
-        restore_checkpoint(*whole_state, checkpoint_path(dir));
-      else
-        absorb_pieces(*whole_state, *mesh, dir, h);
+      if (resume) {
+        const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
+        BRITTLE_CHECK(h.pieces == static_cast<std::uint32_t>(ranks), "checkpoint '",
+                      checkpoint_path(dir), "' was written by ", h.pieces,
+                      " ranks: a run on mesh.parts resumes on its own rank count (expected "
+                      "mpirun -np ", h.pieces, ")");
+      }
+      LocalPart part = read_part(scene, rank, ranks);
+      sim = std::make_unique<Simulation>(scene, *part.mesh);
+      halo = std::make_unique<Halo>(part);
     });
-  }
-  {
+  } else {
+    auto mesh = shared_mesh(scene);
+    if (resume) {
+      on_every_rank([&] {
+        const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
+        if (h.pieces == static_cast<std::uint32_t>(ranks)) return;
+        whole_state = std::make_unique<Simulation>(scene, *mesh);
+        if (h.pieces == 0)
+          restore_checkpoint(*whole_state, checkpoint_path(dir));
+        else
+          absorb_pieces(*whole_state, *mesh, dir, h);
+      });
+    }
     const Grid whole(*mesh);
     std::vector<int> cell_part(whole.num_cells(), 0);
     on_every_rank([&] {
@@ -338,8 +472,10 @@ int partition_command(const std::vector<std::string>& args) {
       "ranks", po::value(&ranks)->default_value("2,4,8"), "rank counts, comma separated")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out),
-      "directory (created) for DIR/partition_<ranks>.vtu: cell data rank, point data owner "
-      "(for ParaView); without it nothing is written");
+      "directory (created) for DIR/partition_<ranks>.vtu (cell data rank, point data owner, "
+      "for ParaView) and the mesh cut into parts, DIR/parts_<ranks>/part_<rank>.vtu, which a "
+      "run over <ranks> MPI ranks reads with --set mesh.parts=DIR/parts_<ranks>; without it "
+      "nothing is written");
   po::options_description hidden;
   hidden.add_options()("scene", po::value(&files)->composing(), "scene INI files");
   auto vm = parse_command_line(args, opts, hidden, "scene");
@@ -364,7 +500,9 @@ int partition_command(const std::vector<std::string>& args) {
     counts.push_back(static_cast<int>(*v));
   }
   BRITTLE_CHECK(!counts.empty(), "--ranks '", ranks, "': no rank count given");
-  const Scene scene = load_scene(files, sets);
+  Scene scene = load_scene(files, sets);
+  scene.resolved = scene_entries(scene);
+  const std::string signature = mesh_signature(scene);
   if (!out.empty()) std::filesystem::create_directories(out);
   auto mesh = make_mesh(scene);
   Grid grid(*mesh);
@@ -387,9 +525,20 @@ int partition_command(const std::vector<std::string>& args) {
     std::printf("%6d %10.3f %9ld %11.2f%% %11.2f%% %13.2f%% %12ld %11d %16ld\n", parts,
                 p.imbalance(), p.cut_faces, 100 * p.ghost_fraction(), 100 * worst_ratio,
                 100 * p.redundant_fraction(), most_ghosts, most_neighbours, 48 * most_ghosts);
-    if (!out.empty()) write_partition_vtu(grid, p, out + "/partition_" + std::to_string(parts) + ".vtu");
+    if (out.empty()) continue;
+    write_partition_vtu(grid, p, out + "/partition_" + std::to_string(parts) + ".vtu");
+    const std::string pieces = out + "/parts_" + std::to_string(parts);
+    std::filesystem::create_directories(pieces);
+    for (int r = 0; r < parts; ++r) {
+      LocalPart part = extract_part(grid, p, r);
+      add_groups(*mesh, part);
+      write_part(part, r, signature, part_path(pieces, r));
+    }
   }
-  if (!out.empty()) std::printf("wrote %s/partition_*.vtu\n", out.c_str());
+  if (!out.empty())
+    std::printf("wrote %s/partition_N.vtu (to look at) and %s/parts_N/part_R.vtu (for mpirun -np "
+                "N brittle run ... --set mesh.parts=%s/parts_N)\n",
+                out.c_str(), out.c_str(), out.c_str());
   return 0;
 }
 

@@ -50,8 +50,17 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
 
 }  // namespace
 
+namespace {
+void check_not_parts(const Scene& scene) {
+  BRITTLE_CHECK(scene.mesh.parts.empty(), "mesh.parts = ", scene.mesh.parts,
+                ": a mesh cut into parts is read by the ranks of mpirun -np N brittle run "
+                "(expected no mesh.parts in a serial run)");
+}
+}  // namespace
+
 RunSummary run_scene(Scene scene, const std::vector<Observer*>& extra,
                      const std::atomic<int>* stop) {
+  check_not_parts(scene);
   scene.resolved = scene_entries(scene);
   // An existing directory is locked at once: one a live run holds is refused before the mesh.
   // A new one is made, and locked, once the mesh and the Simulation have passed their checks,
@@ -90,6 +99,7 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
   const std::string path = checkpoint_path(directory);
   CheckpointHeader header;
   Scene scene = resume_scene(directory, overrides, &header);
+  check_not_parts(scene);
   const RunLock lock(directory);  // before anything is written, until the end
   auto mesh = make_mesh(scene);
   Simulation sim(scene, *mesh);

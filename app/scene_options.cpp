@@ -298,6 +298,21 @@ const std::vector<Key>& scene_keys() {
           return Verdict::ok;
         }));
     k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.mesh.file; };
+    k.push_back(typed<std::string>(
+        "mesh.parts", "",
+        "directory of the scene's mesh cut into parts (the partition command's --out, "
+        "parts_N): each of N MPI ranks reads only its part (docs/parallel.md)",
+        "empty = every rank gets the whole mesh; relative to the scene file's directory",
+        std::string(), "\"\"",
+        [](const std::string& v, const Source& src, Scene& scene) {
+          const fs::path p(v);
+          scene.mesh.parts = v.empty() ? std::string()
+                                       : (p.is_relative() && !src.dir.empty() ? src.dir / p : p)
+                                             .lexically_normal()
+                                             .string();
+          return Verdict::ok;
+        }));
+    k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.mesh.parts; };
     k.push_back(field("mesh.size", &Scene::mesh, &MeP::size, "m",
                       "target element size h away from the band", "> 0", positive));
     k.push_back(field("mesh.band", &Scene::mesh, &MeP::band, "m",

@@ -52,6 +52,9 @@ struct GeometryParams {
 
 struct MeshParams {
   std::string file;          ///< .msh or .vtu to read instead of generating (empty = generate)
+  /// A directory of partitioned-mesh pieces (`brittle partition --out`): each rank of
+  /// `mpirun -np N brittle run` reads its own part_R.vtu instead of the whole mesh.
+  std::string parts;
   double size = 500e-6;      ///< target element size h away from the band [m]
   double band = 0.0;         ///< half-width of the refined band |y| < band (0 = none) [m]
   double band_size = 0.0;    ///< element size inside the band (0 = size) [m]

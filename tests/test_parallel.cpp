@@ -509,5 +509,90 @@ TEST(Mpi, DryRunReportsEveryRanksPart) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+/// Per rank: the sizes of the allocations it made (tests/support/alloc_log.cpp's files).
+std::map<int, std::vector<std::size_t>> allocations(const fs::path& dir) {
+  std::map<int, std::vector<std::size_t>> out;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    std::istringstream in(read_text(entry.path()));
+    int rank = -1;
+    in >> rank;
+    for (std::size_t n; in >> n;) out[rank].push_back(n);
+  }
+  return out;
+}
+
+/// How many of `sizes` are an array of the whole grid: a whole number of 1 to 72 bytes (a
+/// char to 9 doubles) per node or per cell of it, or per one more (CSR starts).
+long whole_grid_arrays(const std::vector<std::size_t>& sizes, long nodes, long cells) {
+  long n = 0;
+  for (std::size_t size : sizes)
+    for (long count : {nodes, cells, nodes + 1, cells + 1})
+      if (size % count == 0 && size / count >= 1 && size / count <= 72) {
+        ++n;
+        break;
+      }
+  return n;
+}
+
+/// Issue 27, item 2: `brittle partition --out` cuts the mesh into parts, and `mpirun -np N
+/// brittle run --set mesh.parts=DIR/parts_N` reads one per rank: the serial bits, and no rank
+/// allocates an array of the whole grid's size. The same run given the whole mesh is the
+/// control that the check sees such arrays (every rank holds the whole mesh there). Pieces of
+/// another rank count, and a serial run, are refused with one line.
+TEST(Mpi, PartitionedMeshRunHoldsNoWholeGridArray) {
+  if (brittle_test::kSanitized) GTEST_SKIP() << "AddressSanitizer has its own allocator";
+  TempDir dir;
+  const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
+  const std::string scene = quote(scenes + "cm.ini") + " " + quote(scenes + "branching.ini") +
+                            " --set run.end_time=10e-6 --set run.threads=1 "
+                            "--set output.frame_interval=5e-6";
+  const fs::path pieces = dir / "pieces";
+  ASSERT_EQ(shell(quote(BRITTLE_EXE) + " partition " + quote(scenes + "cm.ini") +
+                      " --ranks 2 --out " + quote(pieces.string()),
+                  dir / "partition.log"),
+            0)
+      << read_text(dir / "partition.log");
+  ASSERT_TRUE(fs::exists(pieces / "parts_2/part_1.vtu"));
+  const std::string parts = " --set mesh.parts=" + quote((pieces / "parts_2").string());
+  for (const char* run : {"parts", "whole"}) {
+    fs::create_directories(dir / (std::string(run) + "_alloc"));
+    const std::string log = "BRITTLE_ALLOC_LOG=" + quote((dir / (std::string(run) + "_alloc")).string()) +
+                            " LD_PRELOAD=" + quote(BRITTLE_ALLOC_LOG_LIB) + " ";
+    ASSERT_EQ(shell(log + mpiexec(2) + " run " + scene + (run == std::string("parts") ? parts : "") +
+                        " --out " + quote((dir / run).string()),
+                    dir / (std::string(run) + ".log")),
+              0)
+        << read_text(dir / (std::string(run) + ".log"));
+  }
+  for (const char* file : {"energies.csv", "events.csv", "frames/frame_0002_r1.vtu",
+                           "frames/links_0002_r0.vtp"})
+    EXPECT_TRUE(read_text(dir / "parts" / file) == read_text(dir / "whole" / file)) << file;
+  const nlohmann::json s = nlohmann::json::parse(read_text(dir / "parts/summary.json"));
+  const long nodes = s.at("nodes").get<long>(), cells = s.at("tets").get<long>();
+  EXPECT_EQ(cells, 14676);
+  const auto with_parts = allocations(dir / "parts_alloc");
+  const auto with_whole = allocations(dir / "whole_alloc");
+  ASSERT_EQ(with_parts.size(), 2u);
+  ASSERT_EQ(with_whole.size(), 2u);
+  for (const auto& [rank, sizes] : with_parts) {
+    EXPECT_EQ(whole_grid_arrays(sizes, nodes, cells), 0) << "rank " << rank;
+    EXPECT_GT(sizes.size(), 100u) << "rank " << rank << ": the log saw the allocations";
+  }
+  for (const auto& [rank, sizes] : with_whole)
+    EXPECT_GT(whole_grid_arrays(sizes, nodes, cells), 3) << "rank " << rank << " (the control)";
+
+  // Another rank count's pieces, and a serial run: refused with one line naming the key.
+  ASSERT_NE(shell(mpiexec(3) + " run " + scene + parts + " --out " + quote((dir / "three").string()),
+                  dir / "three.log"),
+            0);
+  EXPECT_TRUE(contains(read_text(dir / "three.log"), "mpirun -np 3: parts_3"))
+      << read_text(dir / "three.log");
+  ASSERT_EQ(shell(quote(BRITTLE_EXE) + " run " + scene + parts + " --out " +
+                      quote((dir / "serial").string()),
+                  dir / "serial.log"),
+            2);
+  EXPECT_TRUE(contains(read_text(dir / "serial.log"), "mesh.parts = ")) << read_text(dir / "serial.log");
+}
+
 }  // namespace
 }  // namespace brittle
