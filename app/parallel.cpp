@@ -2,37 +2,36 @@
 #include "parallel.hpp"
 
 #include <mpi.h>
-
-#include <algorithm>
-#include <cstdint>
-#include <memory>
-#include <optional>
-#include <cstdio>
-#include <filesystem>
-#include <cstdlib>
-#include <sstream>
-
-#include <boost/program_options.hpp>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
-#include <vtkIdList.h>
-#include <vtkNew.h>
-#include <vtkPoints.h>
-#include <vtkIntArray.h>
-#include <vtkUnsignedCharArray.h>
-#include <vtkPointData.h>
-#include <vtkUnstructuredGrid.h>
 #include <vtkFieldData.h>
-#include <vtkXMLUnstructuredGridReader.h>
-#include <vtkStringArray.h>
+#include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <boost/program_options.hpp>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
 
 #include "boundary.hpp"
-#include "command_line.hpp"
-#include "error.hpp"
 #include "checkpoint.hpp"
+#include "command_line.hpp"
 #include "crack_pattern.hpp"
+#include "error.hpp"
 #include "grid.hpp"
 #include "halo.hpp"
 #include "lists.hpp"
@@ -159,10 +158,11 @@ std::string part_path(const std::string& directory, int rank) {
 constexpr const char* kPartIds = "brittle_part";  // field data: whole nodes, cells, parts, rank
 constexpr const char* kPartSignature = "brittle_part_mesh";
 constexpr const char* kHolders = "brittle_holders";  // cell data, 5 ranks, -1 padded
-constexpr int kMaxHolders = 5;                        // a cell's part and its 4 nodes' owners
+constexpr int kMaxHolders = 5;                       // a cell's part and its 4 nodes' owners
 
 template <class Array, class T>
-void add_values(vtkFieldData* data, const char* name, const std::vector<T>& values, int components = 1) {
+void add_values(vtkFieldData* data, const char* name, const std::vector<T>& values,
+                int components = 1) {
   auto a = vtkSmartPointer<Array>::New();
   a->SetName(name);
   a->SetNumberOfComponents(components);
@@ -186,9 +186,9 @@ void write_part(LocalPart& part, int rank, const std::string& signature, const s
       holders.push_back(h < part.holder_start[i + 1] ? part.holders[h] : -1);
     }
   add_values<vtkIntArray>(mesh.GetCellData(), kHolders, holders, kMaxHolders);
-  add_values<vtkIdTypeArray>(mesh.GetFieldData(), kPartIds,
-                             std::vector<vtkIdType>{part.whole_nodes, part.whole_cells, part.parts, rank},
-                             4);
+  add_values<vtkIdTypeArray>(
+      mesh.GetFieldData(), kPartIds,
+      std::vector<vtkIdType>{part.whole_nodes, part.whole_cells, part.parts, rank}, 4);
   auto text = vtkSmartPointer<vtkStringArray>::New();
   text->SetName(kPartSignature);
   text->InsertNextValue(signature);
@@ -211,8 +211,10 @@ vtkSmartPointer<vtkDataArray> take(vtkFieldData* data, const char* name, vtkIdTy
 LocalPart read_part(const Scene& scene, int rank, int ranks) {
   const std::string path = part_path(scene.mesh.parts, rank);
   BRITTLE_CHECK(std::filesystem::is_regular_file(path), "mesh.parts = ", scene.mesh.parts,
-                ": no part_", rank, ".vtu (expected the pieces of `brittle partition SCENE.ini "
-                "--ranks ", ranks, " --out DIR`: DIR/parts_", ranks, ")");
+                ": no part_", rank,
+                ".vtu (expected the pieces of `brittle partition SCENE.ini "
+                "--ranks ",
+                ranks, " --out DIR`: DIR/parts_", ranks, ")");
   auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
   reader->SetFileName(path.c_str());
   reader->Update();
@@ -230,7 +232,8 @@ LocalPart read_part(const Scene& scene, int rank, int ranks) {
   part.parts = static_cast<int>(ids->GetComponent(0, 2));
   BRITTLE_CHECK(part.parts == ranks && ids->GetComponent(0, 3) == rank, "mesh.parts: '", path,
                 "' is part ", ids->GetComponent(0, 3), " of ", part.parts, ", this is rank ", rank,
-                " of ", ranks, " (expected the pieces for mpirun -np ", ranks, ": parts_", ranks, ")");
+                " of ", ranks, " (expected the pieces for mpirun -np ", ranks, ": parts_", ranks,
+                ")");
   BRITTLE_CHECK(signature->GetValue(0) == mesh_signature(scene), "mesh.parts: '", path,
                 "' was cut from another mesh (its [geometry], [mesh] or [notch] keys differ from "
                 "the scene's; expected brittle partition run on this scene)");
@@ -251,7 +254,8 @@ LocalPart read_part(const Scene& scene, int rank, int ranks) {
     part.global_cell.push_back(static_cast<vtkIdType>(global_cell->GetComponent(e, 0)));
     part.cell_part.push_back(static_cast<int>(cell_part->GetComponent(e, 0)));
     for (int k = 0; k < kMaxHolders; ++k)
-      if (const int h = static_cast<int>(holders->GetComponent(e, k)); h >= 0) part.holders.push_back(h);
+      if (const int h = static_cast<int>(holders->GetComponent(e, k)); h >= 0)
+        part.holders.push_back(h);
     part.holder_start.push_back(static_cast<std::int64_t>(part.holders.size()));
   }
   return part;
@@ -332,7 +336,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
         BRITTLE_CHECK(h.pieces == static_cast<std::uint32_t>(ranks), "checkpoint '",
                       checkpoint_path(dir), "' was written by ", h.pieces,
                       " ranks: a run on mesh.parts resumes on its own rank count (expected "
-                      "mpirun -np ", h.pieces, ")");
+                      "mpirun -np ",
+                      h.pieces, ")");
       }
       LocalPart part = read_part(scene, rank, ranks);
       sim = std::make_unique<Simulation>(scene, *part.mesh);
@@ -468,8 +473,8 @@ int partition_command(const std::vector<std::string>& args) {
   std::vector<std::string> files, sets;
   std::string ranks = "2,4,8", out;
   po::options_description opts("brittle partition options");
-  opts.add_options()("help,h", "show this help")(
-      "ranks", po::value(&ranks)->default_value("2,4,8"), "rank counts, comma separated")(
+  opts.add_options()("help,h", "show this help")("ranks", po::value(&ranks)->default_value("2,4,8"),
+                                                 "rank counts, comma separated")(
       "set", po::value(&sets)->composing(), "override one key: section.key=value (repeatable)")(
       "out", po::value(&out),
       "directory (created) for DIR/partition_<ranks>.vtu (cell data rank, point data owner, "
@@ -536,9 +541,10 @@ int partition_command(const std::vector<std::string>& args) {
     }
   }
   if (!out.empty())
-    std::printf("wrote %s/partition_N.vtu (to look at) and %s/parts_N/part_R.vtu (for mpirun -np "
-                "N brittle run ... --set mesh.parts=%s/parts_N)\n",
-                out.c_str(), out.c_str(), out.c_str());
+    std::printf(
+        "wrote %s/partition_N.vtu (to look at) and %s/parts_N/part_R.vtu (for mpirun -np "
+        "N brittle run ... --set mesh.parts=%s/parts_N)\n",
+        out.c_str(), out.c_str(), out.c_str());
   return 0;
 }
 

@@ -11,10 +11,10 @@
 #include "output.hpp"
 #include "parallel.hpp"
 #include "partition.hpp"
-#include "scene_options.hpp"
 #include "plate_mesh.hpp"
 #include "render_commands.hpp"
 #include "run_lock.hpp"
+#include "scene_options.hpp"
 
 namespace brittle {
 

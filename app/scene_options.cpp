@@ -303,8 +303,7 @@ const std::vector<Key>& scene_keys() {
         "directory of the scene's mesh cut into parts (the partition command's --out, "
         "parts_N): each of N MPI ranks reads only its part (docs/parallel.md)",
         "empty = every rank gets the whole mesh; relative to the scene file's directory",
-        std::string(), "\"\"",
-        [](const std::string& v, const Source& src, Scene& scene) {
+        std::string(), "\"\"", [](const std::string& v, const Source& src, Scene& scene) {
           const fs::path p(v);
           scene.mesh.parts = v.empty() ? std::string()
                                        : (p.is_relative() && !src.dir.empty() ? src.dir / p : p)

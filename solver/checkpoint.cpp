@@ -147,6 +147,7 @@ void Halo::state(Ar& ar) {
   io(ar, n);
   if constexpr (Ar::loading) ar.check(n, 1), neighbours_.assign(n, Neighbour{});
   for (Neighbour& b : neighbours_) io_all(ar, b.rank, b.send, b.recv);
+  if constexpr (Ar::loading) mark_received();
 }
 
 template <class Ar>
@@ -585,7 +586,8 @@ void restore_decomposed_checkpoint(Simulation& sim, const Halo& halo) {
 void read_checkpoint_piece(Simulation& part, Halo& halo, const std::string& directory,
                            const CheckpointHeader& h) {
   BRITTLE_CHECK(halo.rank() < static_cast<int>(h.pieces), "checkpoint '",
-                checkpoint_path(directory), "': no piece ", halo.rank(), " (", h.pieces, " pieces)");
+                checkpoint_path(directory), "': no piece ", halo.rank(), " (", h.pieces,
+                " pieces)");
   std::string what;
   const CheckpointFile f = load_piece(part, directory, h, halo.rank(), what);
   StateReader r(f.bytes.data() + f.state_begin, f.bytes.data() + f.state_end, what);

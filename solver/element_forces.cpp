@@ -380,7 +380,7 @@ vtkIdType ForceAssembler::compute(const Grid& grid, double dt) {
   return bad;
 }
 
-void ForceAssembler::partition(int ranges) {
+void ForceAssembler::partition(int ranges, const std::uint8_t* late) {
   const vtkIdType nb = static_cast<vtkIdType>(blocks_.size());
   const vtkIdType np = static_cast<vtkIdType>(node_start_.size());
   ranges_ = ranges;
@@ -390,14 +390,24 @@ void ForceAssembler::partition(int ranges) {
     return std::upper_bound(range_start_.begin(), range_start_.end(), block) -
            range_start_.begin() - 1;
   };
+  late_block_.assign(nb, 0);
+  overlapped_ = late != nullptr;
+  if (late)
+    for (vtkIdType b = 0; b < nb; ++b)
+      for (int c = 0; c < 4; ++c)
+        for (int l = 0; l < kLanes; ++l) late_block_[b] |= late[blocks_[b].node[c][l]];
+  // The pass a block is computed in: its range, early or late.
+  auto pass_of = [&](vtkIdType block) { return 2 * range_of(block) + late_block_[block]; };
   straddles_.assign(np, 0);
   block_straddles_.assign(nb, 0);
   straddling_.clear();
   for (vtkIdType p = 0; p < np; ++p) {
     if (node_start_[p] == node_end_[p]) continue;
-    const vtkIdType first = node_entries_[node_start_[p]] / 4 / kLanes;
-    const vtkIdType last = node_entries_[node_end_[p] - 1] / 4 / kLanes;
-    if (range_of(first) == range_of(last)) continue;
+    const auto first = pass_of(node_entries_[node_start_[p]] / 4 / kLanes);
+    bool one_pass = true;
+    for (vtkIdType k = node_start_[p] + 1; k < node_end_[p] && one_pass; ++k)
+      one_pass = pass_of(node_entries_[k] / 4 / kLanes) == first;
+    if (one_pass) continue;
     straddles_[p] = 1;
     straddling_.push_back(p);
     for (vtkIdType k = node_start_[p]; k < node_end_[p]; ++k)
@@ -405,7 +415,7 @@ void ForceAssembler::partition(int ranges) {
   }
 }
 
-vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
+vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Overlap* overlap) {
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
@@ -419,7 +429,11 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
   // from the element buffer. Either way a node's sum runs over its cells in cell order from
   // zero: the bits do not depend on the ranges, so neither on the thread count.
   const int ranges = omp_get_max_threads();
-  if (ranges != ranges_) partition(ranges);
+  if (overlap && (!overlapped_ || overlap->version != late_version_)) {
+    ranges_ = 0;  // the early and late blocks, and the nodes between them, for these flags
+    late_version_ = overlap->version;
+  }
+  if (ranges != ranges_) partition(ranges, overlap ? overlap->late : nullptr);
   std::fill(stored_.begin(), stored_.end(), 0);
   hot_.resize(ranges);
   for (std::vector<vtkIdType>& cells : hot_) cells.clear();
@@ -429,109 +443,119 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt) {
   const std::uint8_t* straddles = straddles_.data();
   const bool stream = stream_;
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
+  const bool two_passes = overlap != nullptr;
+  const std::uint8_t* late_block = late_block_.data();
 
+  for (int pass = 0; pass < (two_passes ? 2 : 1); ++pass) {
+    if (pass == 1) overlap->wait();  // the late blocks' ghost values
 #pragma omp parallel num_threads(ranges) reduction(min : first_bad)
-  {
+    {
+      if (pass == 0) {
 #pragma omp for schedule(static)
-    for (vtkIdType i = 0; i < 3 * np; ++i) f[i] = 0.0;
-    const int team = omp_get_num_threads();
-    for (int range = omp_get_thread_num(); range < ranges; range += team)
-      for (vtkIdType b = range_start_[range]; b < range_start_[range + 1]; ++b) {
-        Block& B = blocks_[b];
-        const vtkIdType e0 = b * W;
-        const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
-        if (b + kAhead < range_start_[range + 1]) prefetch_block(blocks_[b + kAhead], work + e0 + kAhead * W);
-        Pass1 p;
-        BlockOut r;
-        double* work_io = work + e0;
-        double alpha1_out[W], vol_out[W], bound_out[W];
-        double omega[W];
-        for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
-        pass1(B, x, p);
-
-        // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
-#pragma omp simd
-        for (int l = 0; l < W; ++l) {
-          double G[9];
-          for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
-          const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
-          const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
-          alpha1_out[l] = st.alpha1;
-          // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
-          const double* v0 = v + 3 * B.node[0][l];
-          double Vs[9];
-          for (int k = 0; k < 3; ++k) {
-            const double* vk = v + 3 * B.node[k + 1][l];
-            for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
-          }
-          double L[9];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              L[3 * i + j] = Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
-          const double trD = L[0] + L[4] + L[8];
-          const double eta_dev = eta_dev_per_h * B.h_e[l];
-          const double bulk = (eta_dil_per_h * B.h_e[l] - eta_dev * (2.0 / 3.0)) * trD;
-          double Tv[9];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
-          Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
-          // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
-          const double vol = p.vol[l];
-          double old_work = 0.0, new_work = 0.0;
-          double f0[3] = {0.0, 0.0, 0.0};
-          for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) {
-              const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
-                                       Tv[3 * i + 2] * G[3 * j + 2]);
-              const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
-                                                 G[3 * j + 1], G[3 * j + 2], vol, Pv);
-              r.f[3 * (j + 1) + i][l] = fc;
-              f0[i] -= fc;
-              const double P_old = B.P_v[3 * j + i][l];
-              old_work += P_old * Vs[3 * i + j];
-              new_work += Pv * Vs[3 * i + j];
-              B.P_v[3 * j + i][l] = Pv;
-            }
-          for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
-          const double power = 0.5 * (old_work + new_work);
-          work_io[l] += dt * power;  // the viscous work of the step (one sum per element)
-          vol_out[l] = vol;
-          bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
-          r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
-          r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
-        }
-
-        // The per-element results: each a whole cache line per block, streamed past the
-        // caches on meshes larger than them (no read for ownership, docs/performance.md).
-        store_line(alpha1_.data() + e0, alpha1_out, stream);
-        store_line(volume + e0, vol_out, stream);
-        store_line(bound + e0, bound_out, stream);
-
-        // Stress per element, corner forces into the nodal sums (lanes in cell order). An
-        // inverted, degenerate or NaN element adds nothing and keeps its old stress; the
-        // step is abandoned.
-        const bool mixed = block_straddles_[b] != 0;
-        for (int l = 0; l < lanes; ++l) {
-          const vtkIdType e = e0 + l;
-          if (!(p.J[l] > 0.0)) {
-            first_bad = std::min(first_bad, e);
-            continue;
-          }
-          if (bound_out[l] >= hot_threshold) hot_[range].push_back(e);
-          const double s6[6] = {r.s[0][l], r.s[1][l], r.s[2][l], r.s[3][l], r.s[4][l], r.s[5][l]};
-          store_stress(stress + 6 * e, s6, stream);
-          for (int c = 0; c < 4; ++c) {
-            const std::int32_t n = B.node[c][l];
-            if (mixed && straddles[n]) continue;
-            double* fn = f + 3 * n;
-            fn[0] += r.f[3 * c][l], fn[1] += r.f[3 * c + 1][l], fn[2] += r.f[3 * c + 2][l];
-          }
-          if (mixed)
-            for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
-        }
-        if (mixed) stored_[b] = 1;
+        for (vtkIdType i = 0; i < 3 * np; ++i) f[i] = 0.0;
       }
-    end_streaming();
+      const int team = omp_get_num_threads();
+      for (int range = omp_get_thread_num(); range < ranges; range += team)
+        for (vtkIdType b = range_start_[range]; b < range_start_[range + 1]; ++b) {
+          if (two_passes && late_block[b] != pass) continue;
+          Block& B = blocks_[b];
+          const vtkIdType e0 = b * W;
+          const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
+          if (b + kAhead < range_start_[range + 1])
+            prefetch_block(blocks_[b + kAhead], work + e0 + kAhead * W);
+          Pass1 p;
+          BlockOut r;
+          double* work_io = work + e0;
+          double alpha1_out[W], vol_out[W], bound_out[W];
+          double omega[W];
+          for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+          pass1(B, x, p);
+
+          // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
+#pragma omp simd
+          for (int l = 0; l < W; ++l) {
+            double G[9];
+            for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
+            const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
+            const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
+            alpha1_out[l] = st.alpha1;
+            // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
+            const double* v0 = v + 3 * B.node[0][l];
+            double Vs[9];
+            for (int k = 0; k < 3; ++k) {
+              const double* vk = v + 3 * B.node[k + 1][l];
+              for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
+            }
+            double L[9];
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j)
+                L[3 * i + j] =
+                    Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
+            const double trD = L[0] + L[4] + L[8];
+            const double eta_dev = eta_dev_per_h * B.h_e[l];
+            const double bulk = (eta_dil_per_h * B.h_e[l] - eta_dev * (2.0 / 3.0)) * trD;
+            double Tv[9];
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
+            Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
+            // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
+            const double vol = p.vol[l];
+            double old_work = 0.0, new_work = 0.0;
+            double f0[3] = {0.0, 0.0, 0.0};
+            for (int j = 0; j < 3; ++j)
+              for (int i = 0; i < 3; ++i) {
+                const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
+                                         Tv[3 * i + 2] * G[3 * j + 2]);
+                const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
+                                                   G[3 * j + 1], G[3 * j + 2], vol, Pv);
+                r.f[3 * (j + 1) + i][l] = fc;
+                f0[i] -= fc;
+                const double P_old = B.P_v[3 * j + i][l];
+                old_work += P_old * Vs[3 * i + j];
+                new_work += Pv * Vs[3 * i + j];
+                B.P_v[3 * j + i][l] = Pv;
+              }
+            for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
+            const double power = 0.5 * (old_work + new_work);
+            work_io[l] += dt * power;  // the viscous work of the step (one sum per element)
+            vol_out[l] = vol;
+            bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
+            r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
+            r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
+          }
+
+          // The per-element results: each a whole cache line per block, streamed past the
+          // caches on meshes larger than them (no read for ownership, docs/performance.md).
+          store_line(alpha1_.data() + e0, alpha1_out, stream);
+          store_line(volume + e0, vol_out, stream);
+          store_line(bound + e0, bound_out, stream);
+
+          // Stress per element, corner forces into the nodal sums (lanes in cell order). An
+          // inverted, degenerate or NaN element adds nothing and keeps its old stress; the
+          // step is abandoned.
+          const bool mixed = block_straddles_[b] != 0;
+          for (int l = 0; l < lanes; ++l) {
+            const vtkIdType e = e0 + l;
+            if (!(p.J[l] > 0.0)) {
+              first_bad = std::min(first_bad, e);
+              continue;
+            }
+            if (bound_out[l] >= hot_threshold) hot_[range].push_back(e);
+            const double s6[6] = {r.s[0][l], r.s[1][l], r.s[2][l], r.s[3][l], r.s[4][l], r.s[5][l]};
+            store_stress(stress + 6 * e, s6, stream);
+            for (int c = 0; c < 4; ++c) {
+              const std::int32_t n = B.node[c][l];
+              if (mixed && straddles[n]) continue;
+              double* fn = f + 3 * n;
+              fn[0] += r.f[3 * c][l], fn[1] += r.f[3 * c + 1][l], fn[2] += r.f[3 * c + 2][l];
+            }
+            if (mixed)
+              for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
+          }
+          if (mixed) stored_[b] = 1;
+        }
+      end_streaming();
+    }
   }
 
   return first_bad == std::numeric_limits<vtkIdType>::max() ? -1 : first_bad;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -103,10 +104,22 @@ class ForceAssembler {
   /// J <= 0 or NaN, or -1 if none.
   vtkIdType compute(const Grid& grid, double dt = 0.0);
 
+  /// A decomposed run's overlap of the ghost exchange with the element loop: `late` flags the
+  /// nodes (per node) whose x and v arrive while the loop runs, and `wait` brings them. The
+  /// blocks with no late corner are computed first, then `wait()`, then the others; a node
+  /// with cells in both is summed after the loop, as a straddling node, so every node's sum
+  /// keeps its cells' order. `version` changes when the flags change otherwise than by splits
+  /// (a daughter is late if her mother is).
+  struct Overlap {
+    const std::uint8_t* late = nullptr;
+    std::uint64_t version = 0;
+    std::function<void()> wait;
+  };
+
   /// The two halves of compute(): the element loop (stress, element forces and the nodal
   /// sums of all nodes but the straddling ones, viscous power and work), then the straddling
   /// nodes' sums.
-  vtkIdType compute_elements(const Grid& grid, double dt);
+  vtkIdType compute_elements(const Grid& grid, double dt, const Overlap* overlap = nullptr);
   void assemble(const Grid& grid);
 
   /// T_el carries (1 - Omega) (B.4): when Omega of element e changes, its elastic stress and
@@ -189,8 +202,9 @@ class ForceAssembler {
  private:
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);
-  /// Splits the blocks into `ranges` ranges and flags the nodes whose cells lie in two.
-  void partition(int ranges);
+  /// Splits the blocks into `ranges` ranges and flags the nodes whose cells lie in two, or in
+  /// an early and a late block (`late`: per node, or null: no overlap).
+  void partition(int ranges, const std::uint8_t* late);
   /// Brings block b's element forces into the element buffer (recompute_block) unless there.
   void store(vtkIdType b) {
     if (!stored_[b]) recompute_block(b);
@@ -233,6 +247,9 @@ class ForceAssembler {
   std::vector<std::uint8_t> straddles_;        // per node: its cells lie in two ranges
   std::vector<std::uint8_t> block_straddles_;  // per block: holds a straddling node's corner
   std::vector<vtkIdType> straddling_;          // the straddling nodes
+  std::vector<std::uint8_t> late_block_;       // per block: has a late corner (Overlap)
+  std::uint64_t late_version_ = 0;
+  bool overlapped_ = false;  // the ranges were made for an Overlap
   double hot_threshold_ = std::numeric_limits<double>::infinity();
   std::vector<std::vector<vtkIdType>> hot_;    // per range: its hot cells, ascending
 };

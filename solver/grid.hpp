@@ -2,12 +2,12 @@
 // (points = current positions, point data = nodal fields, cell data = element fields).
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include <vtkCellArray.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
+
+#include <cstdint>
+#include <vector>
 
 #include "recut.hpp"
 

@@ -47,8 +47,8 @@ Halo::Halo(const LocalPart& part, int rank, int size)
       global_nodes_(part.whole_nodes),
       initial_nodes_(part.whole_nodes),
       cells_(part.whole_cells) {
-  BRITTLE_CHECK(part.parts == size_, "decomposed run: a partition into ", part.parts,
-                " parts for ", size_, " ranks (expected one part per rank)");
+  BRITTLE_CHECK(part.parts == size_, "decomposed run: a partition into ", part.parts, " parts for ",
+                size_, " ranks (expected one part per rank)");
   const auto cells = static_cast<vtkIdType>(global_cell_.size());
   BRITTLE_CHECK(holder_start_.size() == global_cell_.size() + 1 &&
                     part.cell_part.size() == global_cell_.size() &&
@@ -82,6 +82,7 @@ Halo::Halo(const LocalPart& part, int rank, int size)
   }
   for (const auto& [r, g, q] : send) neighbour(r).send.push_back(q);
   for (const auto& [r, g, q] : recv) neighbour(r).recv.push_back(q);
+  mark_received();
 }
 
 vtkIdType Halo::local_node(vtkIdType global) const {
@@ -107,7 +108,9 @@ void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
                     static_cast<vtkIdType>(initial_owner.size()) == initial_nodes_,
                 "re-cut checkpoint: a grid of ", n, " nodes and ", whole.num_cells(),
                 " cells for a decomposition of ", initial_nodes_, " and ", cells_);
-  auto root_of = [&](vtkIdType q) { return static_cast<std::size_t>(q) < root.size() ? root[q] : q; };
+  auto root_of = [&](vtkIdType q) {
+    return static_cast<std::size_t>(q) < root.size() ? root[q] : q;
+  };
   std::vector<int> owner(initial_owner);  // (the whole state is on every rank here anyway)
   for (vtkIdType q = initial_nodes_; q < n; ++q) {  // a mother is older than her daughter
     const vtkIdType m = static_cast<std::size_t>(q) < mother.size() ? mother[q] : -1;
@@ -153,6 +156,7 @@ void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
   neighbours_.clear();
   for (const auto& [r, q] : send) neighbour(r).send.push_back(local[q]);
   for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local[q]);
+  mark_received();
 }
 
 bool Halo::holds(vtkIdType i, int rank) const {
@@ -170,14 +174,37 @@ Halo::Neighbour& Halo::neighbour(int rank) {
   return *it;
 }
 
+struct Halo::Requests {
+  std::vector<MPI_Request> pending;
+  int per_node = 0;
+};
+
+Halo::~Halo() = default;
+
 void Halo::exchange(double* x, double* v) { send_ghosts({{x, 3}, {v, 3}}); }
+
+void Halo::begin_exchange(double* x, double* v) {
+  post_ghosts({{x, 3}, {v, 3}});
+}
+
+void Halo::finish_exchange(double* x, double* v) {
+  finish_ghosts({{x, 3}, {v, 3}});
+}
 
 void Halo::refresh_for_output(double* v, double* mass) { send_ghosts({{v, 3}, {mass, 1}}); }
 
 void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
+  post_ghosts(fields);
+  finish_ghosts(fields);
+}
+
+void Halo::post_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
+  if (!requests_) requests_ = std::make_unique<Requests>();
+  BRITTLE_ASSERT(requests_->pending.empty());
   int per_node = 0;
   for (const auto& f : fields) per_node += f.second;
-  std::vector<MPI_Request> requests;
+  requests_->per_node = per_node;
+  std::vector<MPI_Request>& requests = requests_->pending;
   requests.reserve(2 * neighbours_.size());
   for (Neighbour& n : neighbours_) {
     if (n.recv.empty()) continue;
@@ -199,13 +226,26 @@ void Halo::send_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
     MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.rank, 0,
               MPI_COMM_WORLD, &requests.back());
   }
+}
+
+void Halo::finish_ghosts(std::initializer_list<std::pair<double*, int>> fields) {
+  BRITTLE_ASSERT(requests_);
+  std::vector<MPI_Request>& requests = requests_->pending;
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  requests.clear();
   for (const Neighbour& n : neighbours_) {
     const double* b = n.recv_buffer.data();
     for (vtkIdType i : n.recv)
       for (const auto& [field, width] : fields)
         for (int k = 0; k < width; ++k) field[width * i + k] = *b++;
   }
+}
+
+void Halo::mark_received() {
+  received_.assign(global_node_.size(), 0);
+  for (const Neighbour& n : neighbours_)
+    for (vtkIdType i : n.recv) received_[i] = 1;
+  ++received_version_;
 }
 
 Halo::Traffic Halo::traffic() const { return {bytes_sent_, messages_, g_collectives}; }
@@ -308,7 +348,8 @@ double Halo::select(const std::vector<double>& mine, long k) const {
   std::uint64_t lo = 0, hi = 0x7ff0000000000000ull;  // +inf
   while (lo < hi) {
     const std::uint64_t mid = lo + (hi - lo) / 2;
-    const long at_most = static_cast<long>(std::upper_bound(bits.begin(), bits.end(), mid) - bits.begin());
+    const long at_most =
+        static_cast<long>(std::upper_bound(bits.begin(), bits.end(), mid) - bits.begin());
     if (sum(at_most) > k)
       hi = mid;
     else
@@ -393,6 +434,7 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
   global_node_.resize(grid.num_points(), -1);
   owned_.resize(grid.num_points(), 1);
   owner_.resize(grid.num_points(), rank_);
+  received_.resize(grid.num_points(), 0);  // own daughters: not received
   // Wire format: failure count, then per failure a, b, X (3), dissipated, A_c; per split:
   // sigma1, a, X (3), A_c, cell count, cells (doubles hold ids < 2^53).
   std::vector<double> wire{double(removed.size())};
@@ -451,8 +493,8 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
     const vtkIdType A = local_node(s.a);
     if (A >= 0 && owned_[A]) {
       // Own splits come in the same relative order (local order = global order).
-      BRITTLE_CHECK(next_own < own.size() && own[next_own].a == A,
-                    "decomposed run: split of node ", s.a, " out of order");
+      BRITTLE_CHECK(next_own < own.size() && own[next_own].a == A, "decomposed run: split of node ",
+                    s.a, " out of order");
       const vtkIdType B = own[next_own++].b;
       BRITTLE_CHECK(B >= before, "decomposed run: split node ", B, " is not new");
       global_node_[B] = s.b;
@@ -470,6 +512,7 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
         global_node_.push_back(s.b);
         owned_.push_back(0);
         owner_.push_back(owner_[A]);
+        received_.push_back(1);  // as her mother: the late blocks stay as they were
         split_local_[s.b] = B;
         neighbour(owner_[A]).recv.push_back(B);
       }

@@ -7,10 +7,11 @@
 
 #include <cstdint>
 #include <initializer_list>
-#include <utility>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "exact_sum.hpp"
@@ -57,6 +58,7 @@ class Halo {
   /// The same for rank `rank` of `size`, without MPI: to read a checkpoint piece that rank
   /// wrote (Simulation::read_piece). Its collective calls must not be used.
   Halo(const LocalPart& part, int rank, int size);
+  ~Halo();
 
   /// Re-cuts a Halo built at the start of the run for the grid after the splits since
   /// (Simulation::take_part): `whole` is the whole grid now, `root` and `mother` give each of
@@ -87,6 +89,15 @@ class Halo {
 
   /// Ghost nodes get their owners' x and v (non-blocking sends and receives, then a wait).
   void exchange(double* x, double* v);
+  /// The same in two halves (issue 27, item 4): begin posts the receives and sends the owned
+  /// nodes' x and v (copied out at once), finish waits and writes the ghosts'. Work that
+  /// reads no received node may run in between (ForceAssembler::Overlap).
+  void begin_exchange(double* x, double* v);
+  void finish_exchange(double* x, double* v);
+  /// Per local node: 1 for the ghosts the exchange writes; and a number that changes when
+  /// they change otherwise than by splits (a daughter is received if her mother is).
+  const std::vector<std::uint8_t>& received() const { return received_; }
+  std::uint64_t received_version() const { return received_version_; }
   /// Ghost nodes get their owners' velocity and mass (for output: between exchanges a ghost
   /// holds the rate the viscosity saw, and the mass of this rank's cells only).
   void refresh_for_output(double* v, double* mass);
@@ -147,22 +158,30 @@ class Halo {
     std::vector<double> send_buffer, recv_buffer;
   };
   Neighbour& neighbour(int rank);
-  /// Owned nodes' values of the fields (pointer, values per node) to their ghost copies.
+  /// Owned nodes' values of the fields (pointer, values per node) to their ghost copies:
+  /// post (receives, packed sends), then finish (wait, unpack).
   void send_ghosts(std::initializer_list<std::pair<double*, int>> fields);
+  void post_ghosts(std::initializer_list<std::pair<double*, int>> fields);
+  void finish_ghosts(std::initializer_list<std::pair<double*, int>> fields);
+  void mark_received();  // received_ from the receive lists, and a new version
+  struct Requests;       // the posted MPI requests (halo.cpp: no MPI in this header)
+  std::unique_ptr<Requests> requests_;
+  std::vector<std::uint8_t> received_;
+  std::uint64_t received_version_ = 0;
   /// Whether `rank` holds the local cell.
   bool holds(vtkIdType local_cell, int rank) const;
 
   int rank_ = 0, size_ = 1;
   long bytes_sent_ = 0, messages_ = 0;
-  std::vector<std::int64_t> holder_start_;      ///< per local cell: the ranks holding it (CSR)
+  std::vector<std::int64_t> holder_start_;  ///< per local cell: the ranks holding it (CSR)
   std::vector<int> holders_;
-  std::vector<vtkIdType> global_cell_;          ///< local -> global (increasing)
+  std::vector<vtkIdType> global_cell_;  ///< local -> global (increasing)
   /// Local -> global: the mesh's nodes (increasing, the first mesh_nodes_), then split nodes.
   std::vector<vtkIdType> global_node_;
   std::size_t mesh_nodes_ = 0;
   std::unordered_map<vtkIdType, vtkIdType> split_local_;  ///< global -> local, split nodes here
   std::vector<char> owned_;
-  std::vector<int> owner_;                      ///< per local node
+  std::vector<int> owner_;  ///< per local node
   std::vector<std::uint8_t> owned_cell_;
   std::vector<Neighbour> neighbours_;           ///< in increasing rank
   vtkIdType global_nodes_ = 0, initial_nodes_ = 0, cells_ = 0;

@@ -58,7 +58,8 @@ void Grid::recut(const Grid& src, const Recut& r) {
   vtkIdType* conn = grid_->GetCells()->GetConnectivityArray64()->GetPointer(0);
   for (vtkIdType e = 0; e < num_cells_; ++e)
     if (const vtkIdType s = r.cell_from[e]; s >= 0)
-      for (int k = 0; k < 4; ++k) conn[4 * e + k] = renamed(r.node_to, src.conn_[4 * s + k], "node");
+      for (int k = 0; k < 4; ++k)
+        conn[4 * e + k] = renamed(r.node_to, src.conn_[4 * s + k], "node");
   refresh();
   grid_->GetPoints()->Modified();
   grid_->GetCells()->Modified();
@@ -90,7 +91,8 @@ void ForceAssembler::recut(const ForceAssembler& src, const Recut& r) {
   }
   force_.resize(3 * r.node_from.size(), 0.0);
   for (std::size_t p = 0; p < r.node_from.size(); ++p)
-    if (const vtkIdType s = r.node_from[p]; s >= 0) std::copy_n(&src.force_[3 * s], 3, &force_[3 * p]);
+    if (const vtkIdType s = r.node_from[p]; s >= 0)
+      std::copy_n(&src.force_[3 * s], 3, &force_[3 * p]);
   std::fill(stored_.begin(), stored_.end(), 0);  // P_v changed: recomputed on demand
   ranges_ = 0;
 }
@@ -160,7 +162,8 @@ void CohesiveLinks::finish_recut(vtkIdType num_points, const std::vector<vtkIdTy
 void Fracture::recut(const Fracture& src, const Recut& r) {
   root_.resize(r.node_from.size());
   for (std::size_t p = 0; p < r.node_from.size(); ++p)
-    if (const vtkIdType s = r.node_from[p]; s >= 0) root_[p] = renamed(r.node_to, src.root_[s], "root node");
+    if (const vtkIdType s = r.node_from[p]; s >= 0)
+      root_[p] = renamed(r.node_to, src.root_[s], "root node");
   hot_.assign(r.node_from.size(), 0);  // scratch of candidates()
   hot_nodes_.clear();
   node_strength_.clear();  // drawn again for the new node ids
@@ -223,7 +226,8 @@ void Simulation::absorb_part(const Simulation& part, const Halo& halo) {
     if (halo.owned()[p]) r.node_from[global_node[p]] = static_cast<vtkIdType>(p);
   r.cell_from.assign(grid_.num_cells(), -1);
   for (std::size_t e = 0; e < global_cell.size(); ++e)
-    if (halo.owns_cell(static_cast<vtkIdType>(e))) r.cell_from[global_cell[e]] = static_cast<vtkIdType>(e);
+    if (halo.owns_cell(static_cast<vtkIdType>(e)))
+      r.cell_from[global_cell[e]] = static_cast<vtkIdType>(e);
   r.node_to = global_node;
   r.cell_to = global_cell;
   r.link_taken = halo.owned();  // a rank holds the links of the nodes it owns
@@ -255,11 +259,14 @@ void Simulation::take_part(const Simulation& whole, const std::vector<int>& init
   r.cell_from = halo.global_cell();
   const vtkIdType n = whole.grid().num_points(), m = whole.grid().num_cells();
   r.node_to.assign(n, -1);
-  for (std::size_t p = 0; p < r.node_from.size(); ++p) r.node_to[r.node_from[p]] = static_cast<vtkIdType>(p);
+  for (std::size_t p = 0; p < r.node_from.size(); ++p)
+    r.node_to[r.node_from[p]] = static_cast<vtkIdType>(p);
   r.cell_to.assign(m, -1);
-  for (std::size_t e = 0; e < r.cell_from.size(); ++e) r.cell_to[r.cell_from[e]] = static_cast<vtkIdType>(e);
+  for (std::size_t e = 0; e < r.cell_from.size(); ++e)
+    r.cell_to[r.cell_from[e]] = static_cast<vtkIdType>(e);
   r.link_taken.assign(n, 0);  // the links of the nodes this rank owns
-  for (std::size_t p = 0; p < r.node_from.size(); ++p) r.link_taken[r.node_from[p]] = halo.owned()[p];
+  for (std::size_t p = 0; p < r.node_from.size(); ++p)
+    r.link_taken[r.node_from[p]] = halo.owned()[p];
   r.sums = halo.rank() == 0;  // rank 0 takes the whole sums, the others none
   recut(whole, r, true);
   assembler_.rebuild_tables(grid_);

@@ -6,9 +6,9 @@
 // they are split).
 #pragma once
 
-#include <vector>
-
 #include <vtkType.h>
+
+#include <vector>
 
 namespace brittle {
 

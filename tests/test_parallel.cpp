@@ -556,16 +556,18 @@ TEST(Mpi, PartitionedMeshRunHoldsNoWholeGridArray) {
   const std::string parts = " --set mesh.parts=" + quote((pieces / "parts_2").string());
   for (const char* run : {"parts", "whole"}) {
     fs::create_directories(dir / (std::string(run) + "_alloc"));
-    const std::string log = "BRITTLE_ALLOC_LOG=" + quote((dir / (std::string(run) + "_alloc")).string()) +
-                            " LD_PRELOAD=" + quote(BRITTLE_ALLOC_LOG_LIB) + " ";
-    ASSERT_EQ(shell(log + mpiexec(2) + " run " + scene + (run == std::string("parts") ? parts : "") +
-                        " --out " + quote((dir / run).string()),
-                    dir / (std::string(run) + ".log")),
-              0)
+    const std::string log =
+        "BRITTLE_ALLOC_LOG=" + quote((dir / (std::string(run) + "_alloc")).string()) +
+        " LD_PRELOAD=" + quote(BRITTLE_ALLOC_LOG_LIB) + " ";
+    ASSERT_EQ(
+        shell(log + mpiexec(2) + " run " + scene + (run == std::string("parts") ? parts : "") +
+                  " --out " + quote((dir / run).string()),
+              dir / (std::string(run) + ".log")),
+        0)
         << read_text(dir / (std::string(run) + ".log"));
   }
-  for (const char* file : {"energies.csv", "events.csv", "frames/frame_0002_r1.vtu",
-                           "frames/links_0002_r0.vtp"})
+  for (const char* file :
+       {"energies.csv", "events.csv", "frames/frame_0002_r1.vtu", "frames/links_0002_r0.vtp"})
     EXPECT_TRUE(read_text(dir / "parts" / file) == read_text(dir / "whole" / file)) << file;
   const nlohmann::json s = nlohmann::json::parse(read_text(dir / "parts/summary.json"));
   const long nodes = s.at("nodes").get<long>(), cells = s.at("tets").get<long>();
@@ -582,16 +584,18 @@ TEST(Mpi, PartitionedMeshRunHoldsNoWholeGridArray) {
     EXPECT_GT(whole_grid_arrays(sizes, nodes, cells), 3) << "rank " << rank << " (the control)";
 
   // Another rank count's pieces, and a serial run: refused with one line naming the key.
-  ASSERT_NE(shell(mpiexec(3) + " run " + scene + parts + " --out " + quote((dir / "three").string()),
-                  dir / "three.log"),
-            0);
+  ASSERT_NE(
+      shell(mpiexec(3) + " run " + scene + parts + " --out " + quote((dir / "three").string()),
+            dir / "three.log"),
+      0);
   EXPECT_TRUE(contains(read_text(dir / "three.log"), "mpirun -np 3: parts_3"))
       << read_text(dir / "three.log");
   ASSERT_EQ(shell(quote(BRITTLE_EXE) + " run " + scene + parts + " --out " +
                       quote((dir / "serial").string()),
                   dir / "serial.log"),
             2);
-  EXPECT_TRUE(contains(read_text(dir / "serial.log"), "mesh.parts = ")) << read_text(dir / "serial.log");
+  EXPECT_TRUE(contains(read_text(dir / "serial.log"), "mesh.parts = "))
+      << read_text(dir / "serial.log");
 }
 
 }  // namespace

@@ -57,7 +57,9 @@ void* realloc(void* p, std::size_t n) {
   note(n);
   return __libc_realloc(p, n);
 }
-void free(void* p) { __libc_free(p); }
+void free(void* p) {
+  __libc_free(p);
+}
 void* memalign(std::size_t alignment, std::size_t n) {
   note(n);
   return __libc_memalign(alignment, n);
