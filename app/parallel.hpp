@@ -43,7 +43,7 @@ void begin_decomposed_run();
 
 /// `mpirun -np N brittle run SCENE`: one run decomposed over the ranks (docs/parallel.md).
 /// Rank 0 meshes and partitions (METIS) the plate and sends both to every rank; each rank
-/// steps its part (solver/halo.hpp) and writes its piece of every frame; rank 0 writes
+/// steps its part (solver/parallel/halo.hpp) and writes its piece of every frame; rank 0 writes
 /// energies.csv, crack_tip.csv, events.csv, pattern.json, summary.json and the .pvtu/.pvd
 /// series; checkpoints are every rank's piece and rank 0's checkpoint.bin that names the set
 /// (docs/checkpoint.md). Refused with one line, before anything is written: sensors,

@@ -340,7 +340,7 @@ TEST(CrackFronts, RejectsBadInput) {
 }  // namespace brittle
 
 // ---------------------------------------------------------------------------------------------
-// The hoop stress around a tip (solver/tip_fields.hpp, docs/branching.md) from element stresses
+// The hoop stress around a tip (solver/observers/tip_fields.hpp, docs/branching.md) from element stresses
 // that hold a known field: the static K-field and Yoffe's field of a crack moving at speed v.
 
 namespace brittle {

@@ -1,6 +1,6 @@
 // A decomposed run steps with the serial run's bits (issue 14, docs/parallel.md). Run by ctest
 // under mpiexec with 1, 2 and 3 ranks: every rank steps the whole plate serially and its own
-// part of it (solver/halo.hpp) side by side, and checks that its owned nodes and cells hold the
+// part of it (solver/parallel/halo.hpp) side by side, and checks that its owned nodes and cells hold the
 // serial bits after every stretch of steps, and that every rank knows every split, in the
 // serial order with the serial node ids, and the energy budget has the serial bits.
 #include <gtest/gtest.h>

@@ -165,7 +165,7 @@ TEST(Partition, OwnedNodeForcesOfEveryPartAreTheSerialBits) {
   }
 }
 
-/// The exact sum (solver/exact_sum.hpp) does not depend on the order of the additions, keeps
+/// The exact sum (solver/physics/exact_sum.hpp) does not depend on the order of the additions, keeps
 /// what a floating-point sum loses, and rounds to within an ulp.
 TEST(ExactSum, OrderDoesNotMatterAndNothingIsLost) {
   ExactSum cancel;

@@ -146,7 +146,7 @@ class ForceAssembler {
   bool streaming() const { return stream_; }
   void set_streaming(bool on) { stream_ = on; }
   /// The elements' viscous work so far (of those with counted[e] != 0, if given), summed
-  /// exactly (solver/exact_sum.hpp).
+  /// exactly (solver/physics/exact_sum.hpp).
   ExactSum viscous_work(const Grid& grid, const std::uint8_t* counted) const;
 
   /// From the last compute(): the force on corner c of element e; current volumes; an upper

@@ -57,7 +57,7 @@ class Fracture {
   void defer_counting() { count_splits_ = false; }
   /// Counts a split in splits(), crack_area() and the tip (split() does it for its own).
   void count_split(double A_c, double X, double Y);
-  /// A split another rank decided (decomposed runs, solver/halo.cpp): the local copy of node K
+  /// A split another rank decided (decomposed runs, solver/parallel/halo.cpp): the local copy of node K
   /// hands `cells` (local ids, ascending, non-empty) over to a new node, as Grid::split_node;
   /// the node table and the per-node tables follow. Returns the new node's local id.
   vtkIdType apply_remote_split(Grid& grid, ForceAssembler& forces, vtkIdType K,

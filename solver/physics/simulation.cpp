@@ -264,7 +264,7 @@ void Simulation::check_time_step() {
 }
 
 Energies Simulation::energies() const {
-  // Exact sums (solver/exact_sum.hpp), rounded once: the same bits for any thread count and,
+  // Exact sums (solver/physics/exact_sum.hpp), rounded once: the same bits for any thread count and,
   // in a decomposed run (each rank adding the nodes and cells it owns), any rank count.
   const vtkIdType np = grid_.num_points(), ne = grid_.num_cells();
   const double *v = grid_.v(), *m = grid_.mass(), *Omega = grid_.damage();

@@ -70,7 +70,7 @@ class Boundary {
   void impose_velocities(Grid& grid, double t) const;
 
   /// Work done on the body so far by tractions and by the reactions at constrained nodes [J].
-  /// Work of tractions and reactions on the body so far, exact (solver/exact_sum.hpp).
+  /// Work of tractions and reactions on the body so far, exact (solver/physics/exact_sum.hpp).
   ExactSum external_work_sum() const {
     ExactSum w = traction_work_;
     w += reaction_work_;

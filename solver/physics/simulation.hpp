@@ -187,7 +187,7 @@ class Simulation {
   /// and a last frame, and returns with status "interrupted".
   RunSummary run(const std::vector<Observer*>& observers);
 
-  /// Makes this simulation one rank's part of a decomposed run (solver/halo.hpp): it was
+  /// Makes this simulation one rank's part of a decomposed run (solver/parallel/halo.hpp): it was
   /// built on extract_part's mesh of this rank, and from now on its ghost nodes follow their
   /// owners, dt and the crack-front distances are those of the whole grid, and splits are
   /// shared. Collective. Owned nodes and cells then step with the serial run's bits.

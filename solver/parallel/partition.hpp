@@ -58,7 +58,7 @@ struct LocalPart {
 };
 
 /// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured
-/// against (solver/boundary.cpp).
+/// against (solver/physics/boundary.cpp).
 inline constexpr const char* kWholeBounds = "whole_mesh_bounds";
 
 /// The part `rank` of `partition` (grid: the whole grid, its reference positions X).

@@ -113,7 +113,7 @@ class Integrator {
   /// Returns what happened; with bad_element >= 0 the state is not usable.
   StepReport step(double t, double dt);
 
-  /// A decomposed run (solver/halo.hpp): ghost nodes get their owners' x(n+1) and the velocity
+  /// A decomposed run (solver/parallel/halo.hpp): ghost nodes get their owners' x(n+1) and the velocity
   /// the element viscosity sees before the element forces; the links' sub-step count and a
   /// bad element are agreed over the ranks.
   void set_halo(Halo* halo) { halo_ = halo; }

@@ -139,7 +139,7 @@ class CohesiveLinks {
   /// The links the last remove_broken took away.
   const std::vector<CohesiveLink>& removed() const { return removed_; }
 
-  /// Sum of V_c over live links (3.1), exact (solver/exact_sum.hpp).
+  /// Sum of V_c over live links (3.1), exact (solver/physics/exact_sum.hpp).
   ExactSum stored_energy_sum() const;
   /// Integral of D_c, removed links included (3.3), exact.
   ExactSum dissipated_energy_sum() const;

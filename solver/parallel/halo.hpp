@@ -147,7 +147,7 @@ class Halo {
                                         std::vector<GlobalFailure>& failures);
 
   /// What the splits change (node ids and owners, the send and receive lists) to and from a
-  /// checkpoint piece (solver/checkpoint.cpp); the static rest comes from the partition.
+  /// checkpoint piece (solver/observers/checkpoint.cpp); the static rest comes from the partition.
   template <class Ar>
   void state(Ar& ar);
 
