@@ -329,31 +329,31 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   // state from it, and takes its part once its Halo is made.
   std::unique_ptr<Simulation> whole_state;
   std::vector<int> initial_owner;
+  CheckpointHeader header;  // resume: the checkpoint's, and whether it is of another count
+  on_every_rank([&] {
+    if (resume) header = read_checkpoint_header(checkpoint_path(dir));
+  });
+  const bool other_count = resume && header.pieces != static_cast<std::uint32_t>(ranks);
   if (!scene.mesh.parts.empty()) {  // each rank reads its part: no rank holds the whole mesh
     on_every_rank([&] {
-      if (resume) {
-        const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
-        BRITTLE_CHECK(h.pieces == static_cast<std::uint32_t>(ranks), "checkpoint '",
-                      checkpoint_path(dir), "' was written by ", h.pieces,
-                      " ranks: a run on mesh.parts resumes on its own rank count (expected "
-                      "mpirun -np ",
-                      h.pieces, ")");
-      }
+      BRITTLE_CHECK(!other_count, "checkpoint '", checkpoint_path(dir), "' was written by ",
+                    header.pieces,
+                    " ranks: a run on mesh.parts resumes on its own rank count (expected "
+                    "mpirun -np ",
+                    header.pieces, ")");
       LocalPart part = read_part(scene, rank, ranks);
       sim = std::make_unique<Simulation>(scene, *part.mesh);
       halo = std::make_unique<Halo>(part);
     });
   } else {
     auto mesh = shared_mesh(scene);
-    if (resume) {
+    if (other_count) {
       on_every_rank([&] {
-        const CheckpointHeader h = read_checkpoint_header(checkpoint_path(dir));
-        if (h.pieces == static_cast<std::uint32_t>(ranks)) return;
         whole_state = std::make_unique<Simulation>(scene, *mesh);
-        if (h.pieces == 0)
+        if (header.pieces == 0)
           restore_checkpoint(*whole_state, checkpoint_path(dir));
         else
-          absorb_pieces(*whole_state, *mesh, dir, h);
+          absorb_pieces(*whole_state, *mesh, dir, header);
       });
     }
     const Grid whole(*mesh);
@@ -414,9 +414,7 @@ void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::stri
                    const CheckpointHeader& h) {
   const Grid initial(mesh);
   const int parts = static_cast<int>(h.pieces);
-  std::vector<int> cell_part(initial.num_cells(), 0);
-  if (parts > 1) cell_part = partition_grid(initial, parts).cell_part;
-  const Partition partition = partition_from(initial, std::move(cell_part), parts);
+  const Partition partition = partition_grid(initial, parts);  // as that run cut it
   for (int p = 0; p < parts; ++p) {
     LocalPart part = extract_part(initial, partition, p);
     add_groups(mesh, part);
@@ -505,8 +503,7 @@ int partition_command(const std::vector<std::string>& args) {
     counts.push_back(static_cast<int>(*v));
   }
   BRITTLE_CHECK(!counts.empty(), "--ranks '", ranks, "': no rank count given");
-  Scene scene = load_scene(files, sets);
-  scene.resolved = scene_entries(scene);
+  const Scene scene = load_scene(files, sets);
   const std::string signature = mesh_signature(scene);
   if (!out.empty()) std::filesystem::create_directories(out);
   auto mesh = make_mesh(scene);

@@ -62,7 +62,7 @@ Halo::Halo(const LocalPart& part, int rank, int size)
   }
   // Send: owned nodes of the local cells to the other holders of those cells. Receive: nodes
   // of the local cells that others own. Both sides derive the same lists, in global order.
-  std::vector<std::tuple<int, vtkIdType, vtkIdType>> send, recv;  // rank, global, local
+  std::vector<Ghost> send, recv;
   vtkNew<vtkIdList> ids;
   for (vtkIdType i = 0; i < cells; ++i) {
     part.mesh->GetCellPoints(i, ids);
@@ -76,13 +76,7 @@ Halo::Halo(const LocalPart& part, int rank, int size)
       }
     }
   }
-  for (auto* list : {&send, &recv}) {
-    std::sort(list->begin(), list->end());
-    list->erase(std::unique(list->begin(), list->end()), list->end());
-  }
-  for (const auto& [r, g, q] : send) neighbour(r).send.push_back(q);
-  for (const auto& [r, g, q] : recv) neighbour(r).recv.push_back(q);
-  mark_received();
+  set_lists(std::move(send), std::move(recv));
 }
 
 vtkIdType Halo::local_node(vtkIdType global) const {
@@ -137,25 +131,29 @@ void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
   // Another rank holds an owned node of the mesh if it holds a cell with a corner descended
   // from it, and an owned daughter if it holds a cell with the daughter at a corner; the
   // owner holds every such cell.
-  std::vector<std::pair<int, vtkIdType>> send, recv;
+  std::vector<Ghost> send, recv;
   for (std::size_t i = 0; i < global_cell_.size(); ++i)
     for (int c = 0; c < 4; ++c) {
       const vtkIdType q = conn[4 * global_cell_[i] + c], r = root_of(q);
       for (vtkIdType p : {q, r}) {
         if (owner[p] != rank_) continue;
         for (std::int64_t h = holder_start_[i]; h < holder_start_[i + 1]; ++h)
-          if (holders_[h] != rank_) send.emplace_back(holders_[h], p);
+          if (holders_[h] != rank_) send.emplace_back(holders_[h], p, local[p]);
       }
     }
   for (vtkIdType q : global_node_)
-    if (owner[q] != rank_) recv.emplace_back(owner[q], q);
+    if (owner[q] != rank_) recv.emplace_back(owner[q], q, local[q]);
+  set_lists(std::move(send), std::move(recv));
+}
+
+void Halo::set_lists(std::vector<Ghost> send, std::vector<Ghost> recv) {
   for (auto* list : {&send, &recv}) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
   }
   neighbours_.clear();
-  for (const auto& [r, q] : send) neighbour(r).send.push_back(local[q]);
-  for (const auto& [r, q] : recv) neighbour(r).recv.push_back(local[q]);
+  for (const auto& [r, g, q] : send) neighbour(r).send.push_back(q);
+  for (const auto& [r, g, q] : recv) neighbour(r).recv.push_back(q);
   mark_received();
 }
 

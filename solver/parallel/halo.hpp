@@ -164,6 +164,11 @@ class Halo {
   void post_ghosts(std::initializer_list<std::pair<double*, int>> fields);
   void finish_ghosts(std::initializer_list<std::pair<double*, int>> fields);
   void mark_received();  // received_ from the receive lists, and a new version
+  /// (rank, global id, local id) of a ghost node to send or receive.
+  using Ghost = std::tuple<int, vtkIdType, vtkIdType>;
+  /// The send and receive lists, per neighbour in increasing global id (both sides derive
+  /// the same), and received_.
+  void set_lists(std::vector<Ghost> send, std::vector<Ghost> recv);
   struct Requests;       // the posted MPI requests (halo.cpp: no MPI in this header)
   std::unique_ptr<Requests> requests_;
   std::vector<std::uint8_t> received_;

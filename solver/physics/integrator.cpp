@@ -140,18 +140,17 @@ vtkIdType Integrator::compute_element_forces(double dt, PhaseClock& clock, int& 
         v[j] = (x[j] - start_x_[3 * i + k]) / dt;
       }
   }
-  // Ghosts: x(n+1) and the rate the viscosity sees, exchanged while the blocks that need
-  // none are computed (ForceAssembler::Overlap).
   vtkIdType bad = -1;
-  if (halo_) {
+  if (!halo_) {
+    bad = forces_.compute_elements(grid_, dt);  // and the viscous work of the step
+  } else {
+    // Ghosts: x(n+1) and the rate the viscosity sees, exchanged while the blocks that need
+    // none are computed (ForceAssembler::Overlap).
     halo_->begin_exchange(x, v);
     const ForceAssembler::Overlap overlap{halo_->received().data(), halo_->received_version(),
                                           [this] { halo_->finish_exchange(grid_.x(), grid_.v()); }};
-    bad = forces_.compute_elements(grid_, dt, &overlap);  // and the viscous work of the step
-  } else {
-    bad = forces_.compute_elements(grid_, dt);
-  }
-  if (halo_) {  // the same verdict on every rank, naming the global cell; and the links' need
+    bad = forces_.compute_elements(grid_, dt, &overlap);
+    // The same verdict on every rank, naming the global cell; and the links' need.
     constexpr long none = std::numeric_limits<long>::max();
     const long mine = bad >= 0 ? static_cast<long>(halo_->global_cell()[bad]) : none;
     long values[2] = {-mine, needed};  // one reduction: the smallest cell, the largest need
