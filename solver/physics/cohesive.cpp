@@ -219,17 +219,20 @@ void CohesiveLinks::end_group(double dt, std::size_t g) {
   }
 }
 
-void CohesiveLinks::advance_law_and_prepare_kick(const Grid& grid, double substep, double tau,
+bool CohesiveLinks::advance_law_and_prepare_kick(const Grid& grid, double substep, double tau,
                                                  std::size_t g) {
   const double *x = grid.x(), *m = grid.mass();
+  bool broke = false;
   for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
     const std::uint32_t i = group_links_[j];
     CohesiveLink& l = links_[i];
     const Vec3 d = Vec3(x + 3 * l.b) - Vec3(x + 3 * l.a);
     const double delta = d.norm();
     advance_link(l, delta, substep, law_);
+    broke |= l.broken();
     link_impulse(l, m, tau, d, delta, impulse_.data() + 6 * i);
   }
+  return broke;
 }
 
 void CohesiveLinks::apply_kick(Grid& grid, std::size_t g) const {
@@ -250,9 +253,10 @@ void CohesiveLinks::begin_step() {
   impulse_.resize(6 * links_.size());
 }
 
-std::size_t CohesiveLinks::remove_broken(vtkIdType num_points) {
+std::size_t CohesiveLinks::remove_broken(vtkIdType num_points, bool some_broke) {
   const std::size_t before = links_.size();
   removed_.clear();
+  if (!some_broke) return 0;
   for (const CohesiveLink& l : links_)
     if (l.broken()) removed_dissipated_ += l.dissipated, removed_.push_back(l);
   std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });

@@ -105,6 +105,9 @@ class CohesiveLinks {
     return {group_nodes_.data() + group_node_start_[g],
             group_nodes_.data() + group_node_start_[g + 1]};
   }
+  /// Every linked node, group after group (after update_groups); group g's start in it.
+  std::span<const vtkIdType> grouped_nodes() const { return group_nodes_; }
+  std::size_t group_node_offset(std::size_t g) const { return group_node_start_[g]; }
 
   /// Sub-steps the links of group g need over an element step dt: every link spring k = f0
   /// (1 - omega) / delta_max (delta_max taken at least 1e-3 delta_c) turns at most 0.5 rad per
@@ -130,12 +133,15 @@ class CohesiveLinks {
   /// first moves every link's law to the current openings over a sub-step, advance_link, in
   /// the same pass), then their application (apply_kick, which may be repeated while
   /// positions and law stand still).
-  void advance_law_and_prepare_kick(const Grid& grid, double substep, double tau, std::size_t g);
+  /// Returns whether one of the group's links reached omega = 1 (broke).
+  bool advance_law_and_prepare_kick(const Grid& grid, double substep, double tau, std::size_t g);
   void apply_kick(Grid& grid, std::size_t g) const;
 
   /// Removes the links whose omega reached 1; what they dissipated stays in the budget.
   /// Returns how many went; removed() lists them (in link order) until the next call.
-  std::size_t remove_broken(vtkIdType num_points);
+  /// `some_broke` false (no advance_law_and_prepare_kick of the step said one broke; links
+  /// break nowhere else) skips the scan over the links.
+  std::size_t remove_broken(vtkIdType num_points, bool some_broke = true);
   /// The links the last remove_broken took away.
   const std::vector<CohesiveLink>& removed() const { return removed_; }
 

@@ -126,8 +126,8 @@ class Integrator {
   void kick(const double* force, double tau, double t_force, double t_velocity);
   void drift_unlinked(double dt);
   /// Sub-steps the links' groups; returns the largest sub-step count a group of this rank
-  /// needed (before the cap).
-  int advance_links(double dt);
+  /// needed (before the cap); `broke`: some link reached omega = 1.
+  int advance_links(double dt, bool& broke);
   /// F(n+1); the first bad element (-1: none). A decomposed run agrees on it and on `needed`
   /// (the links' largest need) in one reduction.
   vtkIdType compute_element_forces(double dt, PhaseClock& clock, int& needed);
@@ -140,6 +140,7 @@ class Integrator {
   Fracture& fracture_;
   Boundary& boundary_;
   std::vector<vtkIdType> moved_;            // nodes that drifted in this step's sub-steps
+                                            // (in group order)
   std::vector<double> start_x_, linked_v_;  // per moved node, 3 each
   PhaseTimes times_;
   Halo* halo_ = nullptr;
