@@ -1,13 +1,15 @@
 // Node splitting and nodal cohesive forces (SPEC 5, paper sections 2-4 and Appendix A).
 #include <gtest/gtest.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-
-#include <vtkXMLUnstructuredGridReader.h>
-#include <vtkXMLUnstructuredGridWriter.h>
+#include <random>
+#include <span>
+#include <utility>
 
 #include "cohesive.hpp"
 #include "error.hpp"
@@ -443,6 +445,59 @@ TEST(Link, GroupsAreTheLinksJoinedByNodes) {
   ASSERT_EQ(links.update_groups(), 2u);
   EXPECT_EQ(std::vector<vtkIdType>(links.group_nodes(1).begin(), links.group_nodes(1).end()),
             (std::vector<vtkIdType>{3, 4, 9, 11}));
+}
+
+// The groups kept up to date as links come and go (a split's links join its daughters to
+// their partners' group; the groups that lost a link are split into their connected parts)
+// are the groups a union-find over every link builds from scratch: same numbering, same
+// nodes, step after step of random splits, cuts, breaks and (now and then) a link that joins
+// two groups.
+TEST(Link, GroupsKeptAsLinksComeAndGoEqualGroupsBuiltAnew) {
+  std::mt19937 rng(7);
+  vtkIdType np = 40;
+  CohesiveLinks links(CohesiveLaw{}, np);
+  const auto pick = [&rng](vtkIdType n) {
+    return std::uniform_int_distribution<vtkIdType>(0, n - 1)(rng);
+  };
+  std::size_t kept = 0;  // rounds whose groups came from the labels kept, not a union-find
+  for (int round = 0; round < 300; ++round) {
+    for (int s = 0; s < 3; ++s) {  // splits of node K into K and a new node
+      const vtkIdType K = pick(np), B = np++;
+      links.cut_links_of(K, B, 1.0, 1.0, {}, np);
+      CohesiveLink l;
+      l.a = K, l.b = B;
+      links.add(l, np);
+    }
+    if (round % 37 == 5 && links.linked_nodes().size() > 1) {  // two groups joined
+      const std::vector<vtkIdType>& on = links.linked_nodes();
+      CohesiveLink l;
+      l.a = on[pick(static_cast<vtkIdType>(on.size()))];
+      l.b = on[pick(static_cast<vtkIdType>(on.size()))];
+      if (l.a != l.b) links.add(l, np);
+    }
+    kept += links.labels_kept();
+    const std::size_t groups = links.update_groups();
+    // Some links break, as in a sub-step (the groups are not told).
+    const std::vector<CohesiveLink>& all = std::as_const(links).links();
+    std::size_t broken = 0;
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (pick(4) == 0) const_cast<CohesiveLink&>(all[i]).omega = 1, ++broken;
+    EXPECT_EQ(links.remove_broken(np), broken);
+    EXPECT_TRUE(links.labels_kept());
+    // (a union-find of its own: links set wholesale through add)
+    CohesiveLinks anew(CohesiveLaw{}, np);
+    for (const CohesiveLink& l : std::as_const(links).links()) anew.add(l, np);
+    ASSERT_EQ(links.update_groups(), anew.update_groups()) << "round " << round;
+    for (std::size_t g = 0; g < anew.update_groups(); ++g) {
+      const std::span<const vtkIdType> a = links.group_nodes(g), b = anew.group_nodes(g);
+      ASSERT_EQ(std::vector<vtkIdType>(a.begin(), a.end()),
+                std::vector<vtkIdType>(b.begin(), b.end()))
+          << "round " << round << ", group " << g;
+      ASSERT_EQ(links.group_size(g), anew.group_size(g));
+    }
+    EXPECT_GT(groups, 0u);
+  }
+  EXPECT_GT(kept, 280u);  // (the joins, round 5 + 37 k, and the first build from scratch)
 }
 
 // Splits, links, sub-steps and damage keep the results independent of the thread count:

@@ -109,7 +109,7 @@ void CohesiveLink::state(Ar& ar) {
 template <class Ar>
 void CohesiveLinks::state(Ar& ar) {
   io_all(ar, links_, linked_, linked_nodes_, delta_start_, impulse_, removed_dissipated_);
-  groups_ready_ = false;  // derived from the links (update_groups)
+  forget_groups();  // derived from the links (update_groups)
 }
 
 template <class Ar>

@@ -114,7 +114,7 @@ void CohesiveLinks::recut(const CohesiveLinks& src, const Recut& r) {
       impulse_.push_back(6 * i + k < src.impulse_.size() ? src.impulse_[6 * i + k] : 0.0);
   }
   if (r.sums) removed_dissipated_ += src.removed_dissipated_;
-  groups_ready_ = false;
+  forget_groups();
 }
 
 void CohesiveLinks::finish_recut(vtkIdType num_points, const std::vector<vtkIdType>* mother) {
@@ -156,7 +156,7 @@ void CohesiveLinks::finish_recut(vtkIdType num_points, const std::vector<vtkIdTy
   for (const CohesiveLink& l : links_) linked_[l.a] = 1, linked_[l.b] = 1;
   for (vtkIdType p = 0; p < num_points; ++p)
     if (linked_[p]) linked_nodes_.push_back(p);
-  groups_ready_ = false;
+  forget_groups();
 }
 
 void Fracture::recut(const Fracture& src, const Recut& r) {

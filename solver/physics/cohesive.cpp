@@ -90,16 +90,30 @@ CohesiveLinks::CohesiveLinks(const CohesiveLaw& law, vtkIdType num_points) : law
 
 void CohesiveLinks::add(CohesiveLink link, vtkIdType num_points) {
   linked_.resize(num_points, 0);
-  mark_linked(link.a);
-  mark_linked(link.b);
+  const bool a_new = mark_linked(link.a), b_new = mark_linked(link.b);
+  label_link(link.a, link.b, a_new, b_new);
   links_.push_back(std::move(link));
   groups_ready_ = false;
 }
 
-void CohesiveLinks::mark_linked(vtkIdType p) {
-  if (linked_[p]) return;
+bool CohesiveLinks::mark_linked(vtkIdType p) {
+  if (linked_[p]) return false;
   linked_[p] = 1;
   linked_nodes_.insert(std::lower_bound(linked_nodes_.begin(), linked_nodes_.end(), p), p);
+  return true;
+}
+
+void CohesiveLinks::label_link(vtkIdType a, vtkIdType b, bool a_new, bool b_new) {
+  if (!labels_ready_) return;
+  label_.resize(linked_.size());
+  if (a_new && b_new)
+    label_[a] = label_[b] = labels_++;  // a group of its own
+  else if (a_new)
+    label_[a] = label_[b];
+  else if (b_new)
+    label_[b] = label_[a];
+  else if (label_[a] != label_[b])
+    labels_ready_ = false;  // two groups joined (a split never does this): built anew
 }
 
 void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double m1, double m2,
@@ -111,59 +125,106 @@ void CohesiveLinks::cut_links_of(vtkIdType old_node, vtkIdType new_node, double 
   if (links_.size() == held) return;
   groups_ready_ = false;
   linked_.resize(num_points, 0);
-  mark_linked(new_node);  // the other ends held links already
+  const bool is_new = mark_linked(new_node);      // the other ends held links already
+  label_link(old_node, new_node, false, is_new);  // (the cut parts' ends: old_node's group)
 }
 
 std::size_t CohesiveLinks::update_groups() {
   if (groups_ready_) return group_link_start_.empty() ? 0 : group_link_start_.size() - 1;
-  // Union-find over the linked nodes (by node id; only linked nodes' entries are used), then
-  // the groups numbered in the order of their first link; links and nodes stay ascending in
-  // each.
   const std::size_t n = linked_nodes_.size(), L = links_.size();
-  scratch_.resize(2 * linked_.size() + L);
-  std::uint32_t *parent = scratch_.data(), *label = parent + linked_.size(),
-                *link_group = label + linked_.size();
-  for (vtkIdType p : linked_nodes_) parent[p] = static_cast<std::uint32_t>(p), label[p] = ~0u;
-  const auto root = [parent](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const CohesiveLink& l : links_) {
-    const std::uint32_t ra = root(static_cast<std::uint32_t>(l.a)),
-                        rb = root(static_cast<std::uint32_t>(l.b));
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  label_.resize(linked_.size());
+  if (!labels_ready_) {
+    // Union-find over the linked nodes (by node id; only linked nodes' entries are used).
+    scratch_.resize(linked_.size());
+    std::uint32_t* parent = scratch_.data();
+    for (vtkIdType p : linked_nodes_) parent[p] = static_cast<std::uint32_t>(p);
+    const auto root = [parent](std::uint32_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (const CohesiveLink& l : links_) {
+      const std::uint32_t ra = root(static_cast<std::uint32_t>(l.a)),
+                          rb = root(static_cast<std::uint32_t>(l.b));
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    for (vtkIdType p : linked_nodes_) label_[p] = root(static_cast<std::uint32_t>(p));
+    labels_ = static_cast<std::uint32_t>(linked_.size());
+    labels_ready_ = true;
   }
+  // The groups numbered in the order of their first link, then the linked nodes that hold
+  // none; the labels renumbered to the groups.
+  scratch_.assign(labels_, ~0u);
+  std::uint32_t* group_of = scratch_.data();  // by label
   std::uint32_t groups = 0;
+  link_group_.resize(L);
   for (std::size_t i = 0; i < L; ++i) {
-    const std::uint32_t r = root(static_cast<std::uint32_t>(links_[i].a));
-    if (label[r] == ~0u) label[r] = groups++;
-    link_group[i] = label[r];
+    std::uint32_t& g = group_of[label_[links_[i].a]];
+    if (g == ~0u) g = groups++;
+    link_group_[i] = g;
   }
   for (vtkIdType p : linked_nodes_) {  // (a node that holds no link drifts on its own)
-    const std::uint32_t r = root(static_cast<std::uint32_t>(p));
-    if (label[r] == ~0u) label[r] = groups++;
+    std::uint32_t& g = group_of[label_[p]];
+    if (g == ~0u) g = groups++;
+    label_[p] = g;
   }
-  const auto node_group = [&](std::size_t i) {
-    return label[root(static_cast<std::uint32_t>(linked_nodes_[i]))];
-  };
+  labels_ = groups;
   // Counting sorts by group, stable.
   group_link_start_.assign(groups + 1, 0);
   group_node_start_.assign(groups + 1, 0);
-  for (std::size_t i = 0; i < L; ++i) ++group_link_start_[link_group[i] + 1];
-  for (std::size_t i = 0; i < n; ++i) ++group_node_start_[node_group(i) + 1];
+  for (std::size_t i = 0; i < L; ++i) ++group_link_start_[link_group_[i] + 1];
+  for (vtkIdType p : linked_nodes_) ++group_node_start_[label_[p] + 1];
   for (std::uint32_t g = 0; g < groups; ++g) {
     group_link_start_[g + 1] += group_link_start_[g];
     group_node_start_[g + 1] += group_node_start_[g];
   }
   group_links_.resize(L);
   group_nodes_.resize(n);
-  std::vector<std::uint32_t> next_link(group_link_start_.begin(), group_link_start_.end() - 1),
-      next_node(group_node_start_.begin(), group_node_start_.end() - 1);
+  scratch_.assign(group_link_start_.begin(), group_link_start_.end() - 1);
   for (std::size_t i = 0; i < L; ++i)
-    group_links_[next_link[link_group[i]]++] = static_cast<std::uint32_t>(i);
-  for (std::size_t i = 0; i < n; ++i) group_nodes_[next_node[node_group(i)]++] = linked_nodes_[i];
+    group_links_[scratch_[link_group_[i]]++] = static_cast<std::uint32_t>(i);
+  scratch_.assign(group_node_start_.begin(), group_node_start_.end() - 1);
+  for (vtkIdType p : linked_nodes_) group_nodes_[scratch_[label_[p]]++] = p;
   groups_ready_ = true;
   return groups;
+}
+
+void CohesiveLinks::relabel_broken_groups() {
+  if (!groups_ready_ || !labels_ready_) {
+    labels_ready_ = false;  // (no groups to go by: the next update_groups builds them anew)
+    return;
+  }
+  // The groups that lost a link, each once; a group's nodes are few: a union-find over their
+  // places in its (ascending) node list.
+  std::vector<std::uint32_t> lost, parent;
+  for (std::size_t i = 0; i < links_.size(); ++i)
+    if (links_[i].broken()) lost.push_back(link_group_[i]);
+  std::sort(lost.begin(), lost.end());
+  lost.erase(std::unique(lost.begin(), lost.end()), lost.end());
+  for (const std::uint32_t g : lost) {
+    const std::span<const vtkIdType> nodes = group_nodes(g);
+    const auto place = [&](vtkIdType p) {
+      return static_cast<std::uint32_t>(std::lower_bound(nodes.begin(), nodes.end(), p) -
+                                        nodes.begin());
+    };
+    parent.resize(nodes.size());
+    for (std::uint32_t k = 0; k < parent.size(); ++k) parent[k] = k;
+    const auto root = [&parent](std::uint32_t k) {
+      while (parent[k] != k) k = parent[k] = parent[parent[k]];
+      return k;
+    };
+    for (std::uint32_t j = group_link_start_[g]; j < group_link_start_[g + 1]; ++j) {
+      const CohesiveLink& l = links_[group_links_[j]];
+      if (l.broken()) continue;
+      const std::uint32_t ra = root(place(l.a)), rb = root(place(l.b));
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    // Each connected part a label of its own (a node left with no link is unlinked later);
+    // a part's root is its first place.
+    for (std::uint32_t k = 0; k < parent.size(); ++k) {
+      const std::uint32_t r = root(k);
+      label_[nodes[k]] = r == k ? labels_++ : label_[nodes[r]];
+    }
+  }
 }
 
 int CohesiveLinks::substeps_needed(const Grid& grid, double dt, std::size_t g) const {
@@ -257,6 +318,7 @@ std::size_t CohesiveLinks::remove_broken(vtkIdType num_points, bool some_broke) 
   const std::size_t before = links_.size();
   removed_.clear();
   if (!some_broke) return 0;
+  relabel_broken_groups();
   for (const CohesiveLink& l : links_)
     if (l.broken()) removed_dissipated_ += l.dissipated, removed_.push_back(l);
   std::erase_if(links_, [](const CohesiveLink& l) { return l.broken(); });

@@ -76,7 +76,7 @@ class CohesiveLinks {
   const CohesiveLaw& law() const { return law_; }
   const std::vector<CohesiveLink>& links() const { return links_; }
   std::vector<CohesiveLink>& links() {  ///< (tests; topology via add/cut)
-    groups_ready_ = false;
+    forget_groups();
     return links_;
   }
   bool empty() const { return links_.empty(); }
@@ -99,11 +99,22 @@ class CohesiveLinks {
   /// one original node, Appendix A; a group's links are all on the rank that owns that node).
   /// Groups share no node, so each is sub-stepped on its own, with its own N, and groups may
   /// run on different threads. Builds the groups if the links changed; returns their number.
+  /// Numbered in the order of their first link (then groups of linked nodes with no link, by
+  /// node); links and nodes ascending in each. Every linked node carries its group's label,
+  /// kept as links come (a new node joins its partner's group) and go (the groups that lost
+  /// a link are split into their connected parts), so that a rebuild is a counting sort; a
+  /// union-find over every link runs only after the links were set wholesale.
   std::size_t update_groups();
   /// The nodes of group g (after update_groups), ascending.
   std::span<const vtkIdType> group_nodes(std::size_t g) const {
     return {group_nodes_.data() + group_node_start_[g],
             group_nodes_.data() + group_node_start_[g + 1]};
+  }
+  /// Whether the next update_groups goes by the labels kept (tests).
+  bool labels_kept() const { return labels_ready_; }
+  /// The number of links of group g (after update_groups).
+  std::size_t group_size(std::size_t g) const {
+    return group_link_start_[g + 1] - group_link_start_[g];
   }
   /// Every linked node, group after group (after update_groups); group g's start in it.
   std::span<const vtkIdType> grouped_nodes() const { return group_nodes_; }
@@ -165,7 +176,13 @@ class CohesiveLinks {
 
  private:
   void refresh_linked(vtkIdType num_points);
-  void mark_linked(vtkIdType p);  // linked_ has room for p
+  bool mark_linked(vtkIdType p);  // linked_ has room for p; true if p was not linked
+  /// The labels of link a-b's nodes, a_new / b_new: whether each has just been linked.
+  void label_link(vtkIdType a, vtkIdType b, bool a_new, bool b_new);
+  /// Labels the groups that lost a broken link by their remaining connected parts (before
+  /// the broken links are erased; the groups are those of the last update_groups).
+  void relabel_broken_groups();
+  void forget_groups() { groups_ready_ = labels_ready_ = false; }
 
   CohesiveLaw law_;
   std::vector<CohesiveLink> links_;
@@ -173,8 +190,11 @@ class CohesiveLinks {
   std::vector<vtkIdType> linked_nodes_;
   std::vector<double> delta_start_;  // per link, at begin_step
   std::vector<double> impulse_;      // per link: the prepared kick's dv of a (3) and b (3)
-  // The groups (update_groups): their links (ascending) and nodes (ascending), CSR.
-  bool groups_ready_ = false;
+  // The groups (update_groups): their links (ascending) and nodes (ascending), CSR; per
+  // link its group; per node its group's label (valid for linked nodes while labels_ready_).
+  bool groups_ready_ = false, labels_ready_ = false;
+  std::vector<std::uint32_t> link_group_, label_;
+  std::uint32_t labels_ = 0;  // labels in use: 0 .. labels_ - 1
   std::vector<std::uint32_t> group_link_start_, group_links_, group_node_start_;
   std::vector<vtkIdType> group_nodes_;
   std::vector<std::uint32_t> scratch_;  // union-find and labels while building

@@ -101,9 +101,8 @@ int Integrator::advance_links(double dt, bool& broke) {
     CohesiveLinks& links = links_;
     const Grid& grid = grid_;
     const double* v = grid_.v();
-    // Each thread steps one range of consecutive groups: its groups' links, impulses and
-    // (mostly) nodes lie together in memory. Groups dealt out in chunks of 16 had the two
-    // threads write into the same cache lines: 1.3x one thread against 1.6x (docs/performance.md).
+    // Each thread steps one range of consecutive groups (docs/performance.md, "Links on two
+    // threads": within this VM's noise of chunks of 16 dealt out, and steadier).
 #pragma omp parallel for schedule(static) reduction(max : most) reduction(|| : broke)
     for (long g = 0; g < groups; ++g) {
       const int needed = links.substeps_needed(grid, dt, g);
