@@ -363,6 +363,17 @@ const std::vector<Key>& scene_keys() {
         "fracture.mode", &Scene::fracture, &FP::mode, "which nodes may split",
         "none | straight (only y = 0, x >= a, normal stress (6.7)) | branching (any node)",
         {{"none", FP::Mode::none}, {"straight", FP::Mode::straight}, {"branching", FP::Mode::branching}}));
+    k.push_back(word("fracture.criterion", &Scene::fracture, &FP::criterion,
+                     "how a node fails (docs/fracture-criteria.md)",
+                     "nodal-stress (the paper's (2.10)-(2.12): sigma1 of the nodal average "
+                     "reaches sigma_c) | energy (the energy of a plane's tractions within "
+                     "fracture.epsilon reaches 2 gamma per unit crack area; branching mode)",
+                     {{"nodal-stress", FP::Criterion::nodal_stress},
+                      {"energy", FP::Criterion::energy}}));
+    k.push_back(field("fracture.epsilon", &Scene::fracture, &FP::epsilon, "m",
+                      "the energy criterion's length: the radius of the ball whose energy a "
+                      "split releases (0 = 3 x the median element size)",
+                      ">= 0", non_negative));
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
                       "paper RD: 9.35e-8",
@@ -977,6 +988,16 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
     BRITTLE_CHECK(s.fracture.mode != FractureParams::Mode::straight, o.latest({"fracture.mode"}),
                   ": fracture.mode = straight follows the paper's notch (y = 0, x >= a) and "
                   "cannot be used with [notch.NAME] sections (expected branching or none)");
+  }
+  if (s.fracture.criterion == FractureParams::Criterion::energy) {
+    BRITTLE_CHECK(s.fracture.mode == FractureParams::Mode::branching,
+                  o.latest({"fracture.criterion", "fracture.mode"}),
+                  ": fracture.criterion = energy needs fracture.mode = branching (straight splits "
+                  "the paper's plane by its normal stress (6.7))");
+    BRITTLE_CHECK(s.material.weibull_modulus == 0,
+                  o.latest({"fracture.criterion", "material.weibull_modulus"}),
+                  ": fracture.criterion = energy has no per-node strengths (expected "
+                  "material.weibull_modulus = 0)");
   }
   for (const BoundaryParams& b : s.boundaries)
     BRITTLE_CHECK(

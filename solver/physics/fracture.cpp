@@ -15,11 +15,13 @@
 
 namespace brittle {
 
-Fracture::Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links)
+Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
+                   CohesiveLinks& links)
     : mode_(scene.fracture.mode),
       region_(scene.fracture.region),
       sigma_c_(scene.material.sigma_c),
       rho0_(scene.material.rho0),
+      G_c_(2.0 * scene.material.gamma),
       weibull_m_(scene.material.weibull_modulus),
       weibull_scale_(weibull_m_ > 0 ? sigma_c_ / std::tgamma(1.0 + 1.0 / weibull_m_) : 0.0),
       strength_seed_(static_cast<std::uint64_t>(scene.material.strength_seed)),
@@ -28,6 +30,18 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links)
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
   root_.resize(grid.num_points());
   for (vtkIdType p = 0; p < grid.num_points(); ++p) root_[p] = p;
+  if (mode_ == FractureParams::Mode::branching &&
+      scene.fracture.criterion == FractureParams::Criterion::energy) {
+    double epsilon = scene.fracture.epsilon;
+    if (!(epsilon > 0)) {  // 3 x the median element size
+      std::vector<double> h = elements.h_e;
+      BRITTLE_CHECK(!h.empty(), "fracture.criterion = energy: the mesh has no cells");
+      std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+      epsilon = 3.0 * h[h.size() / 2];
+    }
+    energy_ = std::make_unique<EnergyCriterion>(grid, elements, epsilon, scene.material.E, G_c_,
+                                                sigma_c_);
+  }
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
   const double* X = grid.X();
@@ -74,6 +88,7 @@ const double* Fracture::strengths(const Grid& grid) const {
 
 double Fracture::hot_threshold(const Grid& grid) const {
   if (mode_ != FractureParams::Mode::branching) return std::numeric_limits<double>::infinity();
+  if (energy_) return energy_->hot_stress();
   const double* own = strengths(grid);
   if (!own) return sigma_c_;  // (candidates() adds its 1e-9 margin above this)
   return *std::min_element(own, own + grid.num_points());
@@ -89,6 +104,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
                                                  const ForceAssembler& forces) const {
   std::vector<SplitCandidate> found;
   if (mode_ == FractureParams::Mode::none) return found;
+  if (energy_) return energy_candidates(grid, forces);
   const bool straight = mode_ == FractureParams::Mode::straight;
   const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
@@ -169,6 +185,20 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 #pragma omp critical
     found.insert(found.end(), mine.begin(), mine.end());
   }
+  std::sort(found.begin(), found.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
+    return std::tie(b.sigma1, a.node) < std::tie(a.sigma1, b.node);
+  });
+  return found;
+}
+
+std::vector<SplitCandidate> Fracture::energy_candidates(const Grid& grid,
+                                                       const ForceAssembler& forces) const {
+  const std::uint8_t* fixed = grid.fixed();
+  const double G_min = G_c_ * (1.0 + 1e-9);  // (the same round-off margin as sigma_c's)
+  const std::vector<EnergySplit> accepted = energy_->splits(
+      grid, forces, G_min, [&](vtkIdType p) { return !fixed[p] && may_break(grid, p); });
+  std::vector<SplitCandidate> found;
+  for (const EnergySplit& s : accepted) found.push_back({s.node, s.G, s.normal});
   std::sort(found.begin(), found.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
     return std::tie(b.sigma1, a.node) < std::tie(a.sigma1, b.node);
   });

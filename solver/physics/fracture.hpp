@@ -5,7 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <memory>
+
 #include "cohesive.hpp"
+#include "energy_criterion.hpp"
 #include "grid.hpp"
 #include "element_forces.hpp"
 #include "scene.hpp"
@@ -33,10 +36,12 @@ struct SplitRecord {
 /// Decides which nodes break and splits them; the links it makes live in CohesiveLinks.
 class Fracture {
  public:
-  Fracture(const Scene& scene, const Grid& grid, CohesiveLinks& links);
+  Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
+           CohesiveLinks& links);
 
-  /// Nodes over the criterion with the element stresses of the last force computation, in
-  /// splitting order: decreasing sigma1, ties by node id.
+  /// Nodes over the criterion (fracture.criterion) with the element stresses of the last force
+  /// computation, in splitting order: decreasing sigma1 (the energy criterion: G_eps), ties by
+  /// node id.
   std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces) const;
 
   /// The smallest strength a node of the grid has (sigma_c, or the weakest Weibull strength):
@@ -92,12 +97,17 @@ class Fracture {
   bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);
 
+  /// The energy criterion's candidates (fracture.criterion = energy).
+  std::vector<SplitCandidate> energy_candidates(const Grid& grid,
+                                                const ForceAssembler& forces) const;
+
   /// Inside fracture.region (or no region given): the node may break.
   bool may_break(const Grid& grid, vtkIdType p) const;
 
   FractureParams::Mode mode_;
   std::vector<double> region_;
-  double sigma_c_, rho0_;
+  double sigma_c_, rho0_, G_c_;
+  mutable std::unique_ptr<EnergyCriterion> energy_;  // fracture.criterion = energy
   double weibull_m_ = 0, weibull_scale_ = 0;
   std::uint64_t strength_seed_ = 0;
   /// Per-node strengths (heterogeneous runs), extended to new nodes as they appear: a cache

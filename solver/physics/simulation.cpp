@@ -76,7 +76,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       assembler_(grid_, elements_, constants_),
       links_(CohesiveLaw{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
              grid_.num_points()),
-      fracture_(scene, grid_, links_),
+      fracture_(scene, grid_, elements_, links_),
       damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
       boundary_(scene, grid_, reference_mesh),
       integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_),
@@ -146,6 +146,11 @@ CrackFronts Simulation::make_crack_fronts() const {
 
 void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
+  // Its balls reach epsilon, wider than the one ghost layer a rank holds.
+  BRITTLE_CHECK(scene_.fracture.criterion != FractureParams::Criterion::energy ||
+                    scene_.fracture.mode != FractureParams::Mode::branching,
+                "fracture.criterion = energy runs on one process for now (expected a run "
+                "without mpirun, or fracture.criterion = nodal-stress)");
   halo_ = &halo;
   integrator_.set_halo(&halo);
   fracture_.defer_counting();
