@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "error.hpp"
+#include "material.hpp"
 #include "output.hpp"
 
 namespace brittle {
@@ -89,12 +90,79 @@ double tip_direction_deg(const TipTrack& tip, double behind) {
   return std::isfinite(tip.start_angle_deg) ? tip.start_angle_deg : 0.0;
 }
 
+JIntegral dynamic_j_integral(const JIntegralFields& f, double x, double y, double direction_deg,
+                             double r_in, double r_out, double thickness) {
+  BRITTLE_CHECK(r_out > r_in && r_in >= 0 && thickness > 0,
+                "dynamic_j_integral: need 0 <= r_in < r_out and thickness > 0, got r_in = ", r_in,
+                ", r_out = ", r_out, ", thickness = ", thickness);
+  const double phi = direction_deg * std::numbers::pi / 180.0;
+  const Vec3 d(std::cos(phi), std::sin(phi), 0.0);  // the 1-axis of the tip's frame
+  const double reach2 = r_out * r_out;
+  JIntegral out;
+  for (vtkIdType e = 0; e < f.num_cells; ++e) {
+    const vtkIdType* n = f.cells + 4 * e;
+    double q[4];
+    bool any = false;
+    for (int k = 0; k < 4; ++k) {
+      const double* p = f.X + 3 * n[k];
+      const double r2 = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
+      q[k] = r2 >= reach2 ? 0.0 : std::clamp((r_out - std::sqrt(r2)) / (r_out - r_in), 0.0, 1.0);
+      any = any || q[k] > 0;
+    }
+    if (!any) continue;
+    // Gradients of the linear fields: grad(f)_j = sum_k (f_k - f_0) (Dm^-1)_kj.
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Dm_inv(f.Dm_inv + 9 * e);
+    Mat3 du, dv;  // columns: corner k minus corner 0
+    Eigen::RowVector3d dq;
+    for (int k = 1; k < 4; ++k) {
+      for (int i = 0; i < 3; ++i) {
+        du(i, k - 1) =
+            (f.x[3 * n[k] + i] - f.X[3 * n[k] + i]) - (f.x[3 * n[0] + i] - f.X[3 * n[0] + i]);
+        dv(i, k - 1) = f.v[3 * n[k] + i] - f.v[3 * n[0] + i];
+      }
+      dq(k - 1) = q[k] - q[0];
+    }
+    const Mat3 H = du * Dm_inv;                       // u_i,j
+    const Vec3 grad_q = (dq * Dm_inv).transpose();    // q_,j
+    const Vec3 u_1 = H * d, v_1 = (dv * Dm_inv) * d;  // u_i,1 and u_i,t1
+    const double* s = f.stress + 6 * e;
+    Mat3 sigma;
+    sigma << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+    const double V = f.V0[e], omega = f.omega ? f.omega[e] : 0.0;
+    // Exact integrals over a tet of products of linear fields a, b with corner values a_k, b_k:
+    // int a b dV = V / 20 (sum_k a_k b_k + (sum_k a_k)(sum_k b_k)).
+    Vec3 v_sum = Vec3::Zero(), qv_sum = Vec3::Zero(), a_sum = Vec3::Zero(), qa_sum = Vec3::Zero();
+    double vv = 0, q_sum = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Map<const Vec3> vk(f.v + 3 * n[k]);
+      v_sum += vk, qv_sum += q[k] * vk, vv += vk.squaredNorm(), q_sum += q[k];
+      if (f.a) {
+        const Eigen::Map<const Vec3> ak(f.a + 3 * n[k]);
+        a_sum += ak, qa_sum += q[k] * ak;
+      }
+    }
+    const double kinetic = 0.5 * f.rho0 * (vv + v_sum.squaredNorm()) / 20.0;         // mean of K
+    const double W = strain_energy_density(Mat3::Identity() + H, f.K, f.mu, omega);  // (B.2)
+    // (sigma_ij u_i,1 - (W + K) delta_1j) q_,j
+    out.ring += V * ((sigma * grad_q).dot(u_1) - (W + kinetic) * grad_q.dot(d));
+    // rho (u_i,tt u_i,1 - u_i,t u_i,t1) q: u_i,1 and u_i,t1 constant in the cell
+    const Vec3 int_qa = (V / 20.0) * (qa_sum + q_sum * a_sum);
+    const Vec3 int_qv = (V / 20.0) * (qv_sum + q_sum * v_sum);
+    const double inertia = f.rho0 * (int_qa.dot(u_1) - int_qv.dot(v_1));
+    out.inertia += inertia;
+    if (q[0] == 1.0 && q[1] == 1.0 && q[2] == 1.0 && q[3] == 1.0) out.inertia_inside += inertia;
+  }
+  out.ring /= thickness, out.inertia /= thickness, out.inertia_inside /= thickness;
+  out.J = out.ring + out.inertia;
+  return out;
+}
+
 namespace {
 
 constexpr char kHeader[] =
     "time,tip,x,y,direction_deg,speed,hoop_theta_max_deg,hoop_max_over_sigmac,"
     "hoop_ahead_over_sigmac,G_new_area,G_tip_advance,two_gamma,fracture_energy,crack_area,"
-    "crack_length,energy_row\n";
+    "crack_length,J,J_over_2gamma,J_inertia_inside,energy_row\n";
 constexpr char kHoopHeader[] = "time,tip,theta_deg,sigma_theta_theta_over_sigmac,energy_row\n";
 
 /// The rows of `path` after its header whose last column, the energy row, is below `rows` (a
@@ -162,13 +230,30 @@ void TipFieldsWriter::on_resume(const Simulation& sim) {
     std::vector<double> v;
     std::istringstream cells(line);
     for (std::string c; std::getline(cells, c, ',');) v.push_back(std::strtod(c.c_str(), nullptr));
-    if (v.size() == 16 && (history_.empty() || history_.back().t < v[0]))
+    if ((v.size() == 16 || v.size() == 19) && (history_.empty() || history_.back().t < v[0]))
       history_.push_back({v[0], v[12], v[13], v[14]});
   }
 }
 
+void TipFieldsWriter::on_step(const Simulation& sim) {
+  // J needs u_tt. The nodal forces miss the links' (they act in sub-steps), so the
+  // acceleration is the velocity change over the step before a row: with the velocity-Verlet
+  // step, (v_n - v_(n-1)) / dt = (a_(n-1) + a_n) / 2, every force included, off a_n by
+  // dt/2 da/dt (dt ~ 0.05 us against the ~0.1 us an element's field takes to change). The
+  // copies are made only over the steps just before a row is due (Simulation::run: at
+  // t >= next - dt/2), not every step.
+  const double t = sim.time(), dt = sim.dt();
+  if (t + 2.5 * dt < next_row_) return;
+  std::swap(v_now_, v_before_);
+  t_before_ = t_now_;
+  const Grid& grid = sim.grid();
+  v_now_.assign(grid.v(), grid.v() + 3 * grid.num_points());
+  t_now_ = t;
+}
+
 void TipFieldsWriter::on_energy(const Simulation& sim, const Energies& e) {
   ensure_probe(sim);
+  next_row_ = e.time + sim.scene().output.energy_interval;
   const CrackFronts& fronts = sim.fronts();
   const double t = e.time;
   std::vector<int> running;
@@ -200,6 +285,24 @@ void TipFieldsWriter::on_energy(const Simulation& sim, const Energies& e) {
   const double two_gamma = 2.0 * sim.scene().material.gamma;
   const long energy_row = sim.progress().energy_rows;
 
+  // The fields J reads; the acceleration as above, zero at a node split in the last step (no
+  // velocity before) and on a row not preceded by two copied steps (the first after a resume).
+  const Grid& grid = sim.grid();
+  const ElasticConstants& c = sim.constants();
+  JIntegralFields fields;
+  fields.X = grid.X(), fields.x = grid.x(), fields.v = grid.v();
+  fields.cells = grid.cells(), fields.num_cells = grid.num_cells();
+  fields.stress = grid.stress(), fields.omega = grid.damage();
+  fields.Dm_inv = sim.elements().Dm_inv.data(), fields.V0 = sim.elements().V0.data();
+  fields.rho0 = c.rho0, fields.K = c.K, fields.mu = c.mu;
+  if (t_now_ == t && t_before_ >= 0 && t_before_ < t_now_) {
+    acceleration_.resize(v_now_.size());
+    const double inv_dt = 1.0 / (t_now_ - t_before_);
+    for (std::size_t i = 0; i < v_now_.size(); ++i)
+      acceleration_[i] = i < v_before_.size() ? (v_now_[i] - v_before_[i]) * inv_dt : 0.0;
+    fields.a = acceleration_.data();
+  }
+
   std::ostringstream row, hoop;
   hoop << std::setprecision(6);
   for (int id : running) {
@@ -209,11 +312,14 @@ void TipFieldsWriter::on_energy(const Simulation& sim, const Energies& e) {
     const double speed = recent_speed(tip, t, kSpeedWindow);
     const HoopProfile p = hoop_profile(*probe_, sim.grid().stress(), head.x, head.y, direction,
                                        kRadiusElements * h_, kSamples);
-    row << std::setprecision(17) << t << std::setprecision(10) << ',' << id << ',' << head.x << ',' << head.y << ','
-        << direction << ',' << speed << ',' << p.theta_max_deg << ',' << p.sigma_max / sigma_c
-        << ',' << p.sigma_ahead / sigma_c << ',' << G_area << ',' << G_advance << ','
-        << two_gamma << ',' << std::setprecision(17) << now.fracture_energy << ','
-        << now.crack_area << ',' << now.tip_length << ',' << energy_row << '\n';
+    const JIntegral J = dynamic_j_integral(fields, head.x, head.y, direction, kJInnerRadius,
+                                           kJOuterRadius, thickness_);
+    row << std::setprecision(17) << t << std::setprecision(10) << ',' << id << ',' << head.x << ','
+        << head.y << ',' << direction << ',' << speed << ',' << p.theta_max_deg << ','
+        << p.sigma_max / sigma_c << ',' << p.sigma_ahead / sigma_c << ',' << G_area << ','
+        << G_advance << ',' << two_gamma << ',' << std::setprecision(17) << now.fracture_energy
+        << ',' << now.crack_area << ',' << now.tip_length << ',' << std::setprecision(10) << J.J
+        << ',' << J.J / two_gamma << ',' << J.inertia_inside << ',' << energy_row << '\n';
     for (std::size_t k = 0; k < p.theta_deg.size(); ++k)
       hoop << t << ',' << id << ',' << p.theta_deg[k] << ',' << p.sigma[k] / sigma_c << ','
            << energy_row << '\n';
