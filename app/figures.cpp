@@ -181,7 +181,8 @@ std::map<std::string, std::vector<double>> read_tip_fields(const std::string& di
 
 /// tip_fields.png: the angle of the hoop-stress maximum of every running tip, and
 /// energy_flux.png: G per unit tip advance and per unit new crack area over 2 gamma
-/// (docs/branching.md), one colour per run.
+/// (docs/branching.md), and the dynamic J over 2 gamma (docs/j-integral.md), one colour per
+/// run.
 void write_tip_field_charts(const std::string& out, const std::vector<std::string>& runs) {
   std::vector<render::ChartSeries> angles, fluxes;
   double t_max = 1, g_max = 3;
@@ -198,12 +199,21 @@ void write_tip_field_charts(const std::string& out, const std::vector<std::strin
                             render::ChartSeries::Style::line, color, 0};
     render::ChartSeries area{label + ": G per new area", {}, {},
                              render::ChartSeries::Style::dashed, color, 0};
+    // The flux through the J ring (3-10 mm) into the first tip of each row (the run's tip);
+    // absent from runs written before the column was.
+    render::ChartSeries j{label + ": J, 3-10 mm ring",        {},    {},
+                          render::ChartSeries::Style::points, color, 0};
+    const std::vector<double>& J = c["J_over_2gamma"];
     for (std::size_t r = 0; r < c["time"].size(); ++r) {
       const double t = c["time"][r] * 1e6, two_gamma = c["two_gamma"][r];
       t_max = std::max(t_max, t);
       if (std::isfinite(c["hoop_theta_max_deg"][r]))
         angle.x.push_back(t), angle.y.push_back(c["hoop_theta_max_deg"][r]);
       if (r > 0 && c["time"][r] == c["time"][r - 1]) continue;  // G: once per energy row
+      if (r < J.size() && std::isfinite(J[r])) {
+        j.x.push_back(t), j.y.push_back(J[r]);
+        g_max = std::max(g_max, std::min(J[r], 10.0));
+      }
       for (auto [series, key] : {std::pair{&tip, "G_tip_advance"}, {&area, "G_new_area"}})
         if (std::isfinite(c[key][r])) {
           series->x.push_back(t), series->y.push_back(c[key][r] / two_gamma);
@@ -213,6 +223,7 @@ void write_tip_field_charts(const std::string& out, const std::vector<std::strin
     angles.push_back(std::move(angle));
     fluxes.push_back(std::move(tip));
     fluxes.push_back(std::move(area));
+    if (!j.x.empty()) fluxes.push_back(std::move(j));
   }
   if (angles.empty()) return;
   for (double level : {1.0, 2.0})
@@ -226,7 +237,7 @@ void write_tip_field_charts(const std::string& out, const std::vector<std::strin
   a.legend = render::ChartAxes::Corner::bottom_left;
   render::write_chart_png(out + "/tip_fields.png", a, angles);
   render::ChartAxes f;
-  f.title = "Energy into crack growth over 2 gamma (1 us windows)";
+  f.title = "Energy into crack growth over 2 gamma (1 us windows) and J / 2 gamma";
   f.x_title = "t  [us]";
   f.y_title = "G / (2 gamma)";
   f.x_min = 0, f.x_max = t_max, f.y_min = 0, f.y_max = 1.1 * g_max;
