@@ -18,7 +18,6 @@ EnergyCriterion::EnergyCriterion(const Grid& grid, const ElementData& elements, 
                                  double E, double G_c, double sigma_c)
     : epsilon_(epsilon),
       E_(E),
-      G_c_(G_c),
       hot_stress_(std::min(std::sqrt(E * G_c / (kCalibration * epsilon)), sigma_c)),
       sigma_c_(sigma_c * (1.0 + 1e-9)),
       V0_(elements.V0) {
@@ -98,12 +97,13 @@ Mat3 to_matrix(const double* m) {
 
 const std::vector<std::int32_t>& EnergyCriterion::ball_of(const double X[3]) {
   std::array<double, 3> at{X[0] + 0.0, X[1] + 0.0, X[2] + 0.0};
-  auto [where, made] = balls_.try_emplace(at);
+  const auto [where, made] = balls_.try_emplace(at);
+  std::vector<std::int32_t>& ball = where->second;
   if (made) {
-    for_each_cell_near(X, epsilon_, [&](std::int32_t e) { where->second.push_back(e); });
-    std::sort(where->second.begin(), where->second.end());  // (the sum's order: fixed)
+    for_each_cell_near(X, epsilon_, [&ball](std::int32_t e) { ball.push_back(e); });
+    std::sort(ball.begin(), ball.end());  // (the sum's order: fixed)
   }
-  return where->second;
+  return ball;
 }
 
 void EnergyCriterion::begin_step() {

@@ -75,7 +75,7 @@ class EnergyCriterion {
     return (i * 2097152LL + j) * 2097152LL + k;
   }
 
-  double epsilon_, E_, G_c_, hot_stress_, sigma_c_;
+  double epsilon_, E_, hot_stress_, sigma_c_;
   std::vector<double> centroid_;  // 3 per cell, reference
   std::vector<double> V0_;
   std::unordered_map<long long, std::vector<std::int32_t>> buckets_;  // cells by epsilon cube
