@@ -322,6 +322,14 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("mesh.layers", &Scene::mesh, &MeP::layers, "",
                       "element layers through the thickness", ">= 1",
                       [](const int& v) { return v >= 1; }));
+    k.push_back(field("mesh.perturb", &Scene::mesh, &MeP::perturb, "",
+                      "nodal perturbation: nodes off the lateral boundary move in x-y by up to "
+                      "this fraction of their shortest in-plane edge (against mesh-aligned crack "
+                      "paths; 0 = none)",
+                      ">= 0 and <= 0.3", [](const double& v) { return v >= 0 && v <= 0.3; }));
+    k.push_back(field("mesh.perturb_seed", &Scene::mesh, &MeP::perturb_seed, "",
+                      "seed of the nodal perturbation (the same seed, the same mesh)", ">= 0",
+                      [](const int& v) { return v >= 0; }));
     k.push_back(field("mesh.max_elements", &Scene::mesh, &MeP::max_elements, "",
                       "refuse a generated plate estimated to have more tets than this (about "
                       "0.7 kB each)",
@@ -989,6 +997,10 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   ": fracture.mode = straight follows the paper's notch (y = 0, x >= a) and "
                   "cannot be used with [notch.NAME] sections (expected branching or none)");
   }
+  BRITTLE_CHECK(s.mesh.perturb == 0 || s.fracture.mode != FractureParams::Mode::straight,
+                o.latest({"mesh.perturb", "fracture.mode"}),
+                ": mesh.perturb moves the nodes of the paper's crack plane, which fracture.mode = "
+                "straight splits (expected mesh.perturb = 0, or fracture.mode = branching)");
   if (s.fracture.criterion == FractureParams::Criterion::energy) {
     BRITTLE_CHECK(s.fracture.mode == FractureParams::Mode::branching,
                   o.latest({"fracture.criterion", "fracture.mode"}),

@@ -532,4 +532,72 @@ TEST(MakeMesh, ReadsTheFileWhenSetAndGeneratesOtherwise) {
   EXPECT_EQ(brittle::make_mesh(scene)->GetNumberOfCells(), 1);
 }
 
+// mesh.perturb (docs/mesh.md): nodes off the lateral boundary move in x-y only, by at most the
+// fraction of their shortest in-plane edge, nodes above one another together; the same seed
+// gives the same mesh, another seed another; too large a fraction is refused.
+TEST(PerturbMesh, MovesInteriorNodesInPlaneWithinTheirEdgesAndKeepsTheOutline) {
+  const double fraction = 0.25;
+  const Grid base = generate_plate_mesh(GeometryParams{}, cm());
+  auto copy = [&] {
+    Grid g = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    g->DeepCopy(base);
+    return g;
+  };
+  Grid a = copy(), b = copy(), c = copy();
+  brittle::perturb_mesh(*a, fraction, 1);
+  brittle::perturb_mesh(*b, fraction, 1);
+  brittle::perturb_mesh(*c, fraction, 2);
+  const vtkIdType n = base->GetNumberOfPoints();
+  // The shortest in-plane edge of every node, from the unperturbed mesh.
+  std::vector<double> shortest(n, 1e30);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType e = 0; e < base->GetNumberOfCells(); ++e) {
+    base->GetCellPoints(e, ids);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        double p[3], q[3];
+        base->GetPoint(ids->GetId(i), p);
+        base->GetPoint(ids->GetId(j), q);
+        if (std::abs(p[2] - q[2]) > 1e-12) continue;
+        const double l = std::hypot(p[0] - q[0], p[1] - q[1]);
+        for (vtkIdType k : {ids->GetId(i), ids->GetId(j)}) shortest[k] = std::min(shortest[k], l);
+      }
+  }
+  const GeometryParams geo;
+  int moved = 0, on_outline_moved = 0;
+  std::map<std::pair<long long, long long>, std::array<double, 2>> column_move;
+  bool columns_together = true;
+  for (vtkIdType p = 0; p < n; ++p) {
+    double x0[3], x1[3], xb[3];
+    base->GetPoint(p, x0);
+    a->GetPoint(p, x1);
+    b->GetPoint(p, xb);
+    ASSERT_EQ(x1[2], x0[2]);
+    ASSERT_TRUE(x1[0] == xb[0] && x1[1] == xb[1]) << "the same seed, another mesh at " << p;
+    const double d = std::hypot(x1[0] - x0[0], x1[1] - x0[1]);
+    EXPECT_LE(d, fraction * shortest[p] * (1 + 1e-12)) << p;
+    const bool outline = std::abs(std::abs(x0[1]) - 0.5 * geo.H) < 1e-9 || x0[0] < 1e-9 ||
+                         std::abs(x0[0] - geo.L) < 1e-9;
+    if (d > 0) ++moved, on_outline_moved += outline;
+    const auto key = std::make_pair(std::llround(x0[0] * 1e9), std::llround(x0[1] * 1e9));
+    const std::array<double, 2> move{x1[0] - x0[0], x1[1] - x0[1]};
+    const auto [it, made] = column_move.try_emplace(key, move);
+    if (!made && it->second != move) columns_together = false;
+  }
+  EXPECT_GT(moved, n / 2);
+  EXPECT_EQ(on_outline_moved, 0);
+  EXPECT_TRUE(columns_together);
+  int differ = 0;
+  for (vtkIdType p = 0; p < n; ++p) {
+    double xa[3], xc[3];
+    a->GetPoint(p, xa);
+    c->GetPoint(p, xc);
+    differ += xa[0] != xc[0];
+  }
+  EXPECT_GT(differ, n / 2);
+  EXPECT_GT(min_volume(*a), 0.0);
+  Grid d = copy();
+  EXPECT_THROW(brittle::perturb_mesh(*d, 0.31, 1), brittle::Error);
+}
+
 }  // namespace

@@ -21,6 +21,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -567,8 +569,115 @@ vtkSmartPointer<vtkUnstructuredGrid> read_mesh(const std::string& path) {
 }
 
 vtkSmartPointer<vtkUnstructuredGrid> make_mesh(const Scene& scene) {
-  return scene.mesh.file.empty() ? generate_plate_mesh(scene.geometry, scene.mesh)
-                                 : read_mesh(scene.mesh.file);
+  vtkSmartPointer<vtkUnstructuredGrid> mesh = scene.mesh.file.empty()
+                                                  ? generate_plate_mesh(scene.geometry, scene.mesh)
+                                                  : read_mesh(scene.mesh.file);
+  if (scene.mesh.perturb > 0)
+    perturb_mesh(*mesh, scene.mesh.perturb, static_cast<std::uint64_t>(scene.mesh.perturb_seed));
+  return mesh;
+}
+
+namespace {
+
+/// SplitMix64's finaliser.
+std::uint64_t mix(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double signed_volume(const std::array<std::array<double, 3>, 4>& p) {
+  double a[3], b[3], c[3];
+  for (int k = 0; k < 3; ++k) a[k] = p[1][k] - p[0][k], b[k] = p[2][k] - p[0][k], c[k] = p[3][k] - p[0][k];
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+         a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+}  // namespace
+
+void perturb_mesh(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed) {
+  BRITTLE_CHECK(fraction >= 0 && fraction <= 0.3, "mesh.perturb = ", fraction,
+                " is out of range (expected 0 <= perturb <= 0.3)");
+  const vtkIdType n = grid.GetNumberOfPoints(), cells = grid.GetNumberOfCells();
+  if (fraction == 0 || n == 0) return;
+  std::vector<std::array<double, 3>> x(n);
+  for (vtkIdType p = 0; p < n; ++p) grid.GetPoint(p, x[p].data());
+  std::vector<std::array<vtkIdType, 4>> tets(cells);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < cells; ++c) {
+    grid.GetCellPoints(c, ids);
+    for (int j = 0; j < 4; ++j) tets[c][j] = ids->GetId(j);
+  }
+  double b[6];
+  grid.GetBounds(b);
+  const double tol = 1e-9 * std::max({b[1] - b[0], b[3] - b[2], b[5] - b[4]});
+  // The lateral boundary: faces of one tet only, whose normal is not along z.
+  std::vector<std::array<vtkIdType, 3>> faces;
+  faces.reserve(4 * cells);
+  for (const auto& t : tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<vtkIdType, 3> f;
+      for (int j = 0, k = 0; j < 4; ++j)
+        if (j != skip) f[k++] = t[j];
+      std::sort(f.begin(), f.end());
+      faces.push_back(f);
+    }
+  std::sort(faces.begin(), faces.end());
+  std::vector<std::uint8_t> held(n, 0);
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j] == faces[i]) ++j;
+    if (j - i == 1) {
+      const auto& f = faces[i];
+      double u[3], v[3];
+      for (int k = 0; k < 3; ++k) u[k] = x[f[1]][k] - x[f[0]][k], v[k] = x[f[2]][k] - x[f[0]][k];
+      const double nx = u[1] * v[2] - u[2] * v[1], ny = u[2] * v[0] - u[0] * v[2],
+                   nz = u[0] * v[1] - u[1] * v[0];
+      if (std::abs(nz) < 0.9 * std::sqrt(nx * nx + ny * ny + nz * nz))
+        for (vtkIdType p : f) held[p] = 1;
+    }
+    i = j;
+  }
+  // The shortest in-plane edge of each node (edges of any direction where it has none).
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> flat(n, inf), any(n, inf);
+  for (const auto& t : tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const auto &p = x[t[i]], &q = x[t[j]];
+        const double length = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+        for (vtkIdType k : {t[i], t[j]}) {
+          any[k] = std::min(any[k], length);
+          if (std::abs(p[2] - q[2]) <= tol) flat[k] = std::min(flat[k], length);
+        }
+      }
+  vtkPoints* points = grid.GetPoints();
+  for (vtkIdType p = 0; p < n; ++p) {
+    if (held[p]) continue;
+    std::uint64_t h = mix(seed + 0x9e3779b97f4a7c15ULL);
+    for (int k = 0; k < 2; ++k) {
+      std::uint64_t bits;
+      const double c = x[p][k] + 0.0;  // -0.0 and 0.0 are the same place
+      std::memcpy(&bits, &c, sizeof bits);
+      h = mix(h ^ (bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2)));
+    }
+    const double U1 = static_cast<double>(h >> 11) * 0x1.0p-53;
+    const double U2 = static_cast<double>(mix(h) >> 11) * 0x1.0p-53;
+    const double reach = fraction * (std::isfinite(flat[p]) ? flat[p] : any[p]);
+    const double r = reach * std::sqrt(U2), angle = 2 * M_PI * U1;  // uniform in the disc
+    points->SetPoint(p, x[p][0] + r * std::cos(angle), x[p][1] + r * std::sin(angle), x[p][2]);
+  }
+  points->Modified();
+  for (vtkIdType c = 0; c < cells; ++c) {
+    std::array<std::array<double, 3>, 4> before, after;
+    for (int j = 0; j < 4; ++j) {
+      before[j] = x[tets[c][j]];
+      points->GetPoint(tets[c][j], after[j].data());
+    }
+    const double v0 = signed_volume(before), v1 = signed_volume(after);
+    BRITTLE_CHECK(v0 * v1 > 0 && std::abs(v1) > 1e-3 * std::abs(v0), "mesh.perturb = ", fraction,
+                  " turns tet ", c, " over or flat (expected a smaller value)");
+  }
 }
 
 void renumber_for_locality(vtkUnstructuredGrid& grid) {

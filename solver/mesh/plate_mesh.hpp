@@ -2,6 +2,8 @@
 // tests, and import of .msh / .vtu tetrahedral meshes. All return reference configurations.
 #pragma once
 
+#include <cstdint>
+
 #include <string>
 
 #include <vtkSmartPointer.h>
@@ -26,7 +28,15 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_box_mesh(double lx, double ly, dou
 /// throw brittle::Error naming the file (and the cell).
 vtkSmartPointer<vtkUnstructuredGrid> read_mesh(const std::string& path);
 
-/// The scene's mesh: read_mesh(scene.mesh.file) if set, else generate_plate_mesh.
+/// Moves every node off the mesh's lateral boundary (boundary faces whose normal is not along
+/// z) in the x-y plane by up to `fraction` of its shortest in-plane edge, in a direction and by
+/// an amount drawn from a hash of its x, y and the seed: nodes above one another move together,
+/// and the same scene gives the same mesh (nodal perturbation against mesh-aligned crack
+/// paths; docs/mesh.md). Throws brittle::Error if a tet would turn over.
+void perturb_mesh(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed);
+
+/// The scene's mesh: read_mesh(scene.mesh.file) if set, else generate_plate_mesh; then
+/// perturb_mesh if mesh.perturb > 0.
 vtkSmartPointer<vtkUnstructuredGrid> make_mesh(const Scene& scene);
 
 /// Reorders cells along a space-filling curve of their centroids and numbers points by

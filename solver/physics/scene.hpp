@@ -59,6 +59,10 @@ struct MeshParams {
   double band = 0.0;         ///< half-width of the refined band |y| < band (0 = none) [m]
   double band_size = 0.0;    ///< element size inside the band (0 = size) [m]
   int layers = 1;            ///< element layers through the thickness
+  /// Nodal perturbation: nodes off the lateral boundary move in x-y by up to this fraction of
+  /// their shortest in-plane edge (0 = none; at most 0.3); perturb_seed draws the moves.
+  double perturb = 0.0;
+  int perturb_seed = 1;
   /// Refuse a generated mesh whose estimated tet count exceeds this (docs/scenes.md, guards).
   double max_elements = 10e6;
 };
