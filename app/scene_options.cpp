@@ -371,13 +371,13 @@ const std::vector<Key>& scene_keys() {
         "fracture.mode", &Scene::fracture, &FP::mode, "which nodes may split",
         "none | straight (only y = 0, x >= a, normal stress (6.7)) | branching (any node)",
         {{"none", FP::Mode::none}, {"straight", FP::Mode::straight}, {"branching", FP::Mode::branching}}));
-    k.push_back(word("fracture.criterion", &Scene::fracture, &FP::criterion,
-                     "how a node fails (docs/fracture-criteria.md)",
-                     "nodal-stress (the paper's (2.10)-(2.12): sigma1 of the nodal average "
-                     "reaches sigma_c) | energy (the energy of a plane's tractions within "
-                     "fracture.epsilon reaches 2 gamma per unit crack area; branching mode)",
-                     {{"nodal-stress", FP::Criterion::nodal_stress},
-                      {"energy", FP::Criterion::energy}}));
+    k.push_back(
+        word("fracture.criterion", &Scene::fracture, &FP::criterion,
+             "how a node fails (docs/fracture-criteria.md)",
+             "nodal-stress (the paper's (2.10)-(2.12): sigma1 of the nodal average "
+             "reaches sigma_c) | energy (the energy of a plane's tractions within "
+             "fracture.epsilon reaches 2 gamma per unit crack area; branching mode)",
+             {{"nodal-stress", FP::Criterion::nodal_stress}, {"energy", FP::Criterion::energy}}));
     k.push_back(field("fracture.epsilon", &Scene::fracture, &FP::epsilon, "m",
                       "the energy criterion's length: the radius of the ball whose energy a "
                       "split releases (0 = 3 x the median element size)",

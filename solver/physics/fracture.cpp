@@ -192,7 +192,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 }
 
 std::vector<SplitCandidate> Fracture::energy_candidates(const Grid& grid,
-                                                       const ForceAssembler& forces) const {
+                                                        const ForceAssembler& forces) const {
   const std::uint8_t* fixed = grid.fixed();
   const double G_min = G_c_ * (1.0 + 1e-9);  // (the same round-off margin as sigma_c's)
   const std::vector<EnergySplit> accepted = energy_->splits(

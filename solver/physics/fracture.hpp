@@ -3,14 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
-#include <memory>
-
 #include "cohesive.hpp"
+#include "element_forces.hpp"
 #include "energy_criterion.hpp"
 #include "grid.hpp"
-#include "element_forces.hpp"
 #include "scene.hpp"
 
 namespace brittle {
@@ -36,8 +35,7 @@ struct SplitRecord {
 /// Decides which nodes break and splits them; the links it makes live in CohesiveLinks.
 class Fracture {
  public:
-  Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
-           CohesiveLinks& links);
+  Fracture(const Scene& scene, const Grid& grid, const ElementData& elements, CohesiveLinks& links);
 
   /// Nodes over the criterion (fracture.criterion) with the element stresses of the last force
   /// computation, in splitting order: decreasing sigma1 (the energy criterion: G_eps), ties by
