@@ -114,7 +114,8 @@ void CohesiveLinks::state(Ar& ar) {
 
 template <class Ar>
 void Fracture::state(Ar& ar) {
-  io_all(ar, plane_nodes_, root_, hot_, hot_nodes_, splits_, crack_area_, tip_x_, tip_y_);
+  io_all(ar, plane_nodes_, root_, split_time_, hot_, hot_nodes_, splits_, crack_area_, tip_x_,
+         tip_y_);
 }
 
 template <class Ar>
@@ -218,14 +219,15 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   GeometryParams& g = s.geometry;
   section("geometry", g.L, g.H, g.T, g.notch_depth, g.notch_base, g.notches);
   MeshParams& me = s.mesh;
-  section("mesh", me.file, me.size, me.band, me.band_size, me.layers);
+  section("mesh", me.file, me.size, me.band, me.band_size, me.layers, me.perturb,
+          me.perturb_seed);
   section("loading", s.loading.sigma_over_sigmac, s.loading.sigma);
   section("initial", s.initial.state, s.initial.velocities);
   section("boundary", s.boundaries);
   section("sensor", s.sensors);
   FractureParams& f = s.fracture;
   section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
-          f.min_branch_length);
+          f.min_branch_length, f.criterion, f.epsilon);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
   section("run", s.run.cfl, s.run.stop_when_cut_through);
@@ -239,12 +241,14 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 8;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 9;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                       // 4: Weibull strength keys; 5: no element forces (the
                                       // next step recomputes them before any use); 6: blocks
                                       // with h_e for the two viscosities, no viscous powers;
                                       // 7: the piece count (decomposed runs' checkpoints);
-                                      // 8: pieces without whole-grid node tables
+                                      // 8: pieces without whole-grid node tables;
+                                      // 9: fracture.criterion, epsilon, mesh.perturb keys
+                                      // and the nodes' split times
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

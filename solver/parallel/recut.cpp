@@ -161,9 +161,12 @@ void CohesiveLinks::finish_recut(vtkIdType num_points, const std::vector<vtkIdTy
 
 void Fracture::recut(const Fracture& src, const Recut& r) {
   root_.resize(r.node_from.size());
+  split_time_.assign(r.node_from.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t p = 0; p < r.node_from.size(); ++p)
-    if (const vtkIdType s = r.node_from[p]; s >= 0)
+    if (const vtkIdType s = r.node_from[p]; s >= 0) {
       root_[p] = renamed(r.node_to, src.root_[s], "root node");
+      split_time_[p] = src.split_time_[s];
+    }
   hot_.assign(r.node_from.size(), 0);  // scratch of candidates()
   hot_nodes_.clear();
   node_strength_.clear();  // drawn again for the new node ids

@@ -15,13 +15,15 @@
 namespace brittle {
 
 EnergyCriterion::EnergyCriterion(const Grid& grid, const ElementData& elements, double epsilon,
-                                 double E, double G_c, double sigma_c)
+                                 double E, double G_c, double sigma_c, double c_R)
     : epsilon_(epsilon),
       E_(E),
       hot_stress_(std::min(std::sqrt(E * G_c / (kCalibration * epsilon)), sigma_c)),
       sigma_c_(sigma_c * (1.0 + 1e-9)),
+      c_R_(c_R),
       V0_(elements.V0) {
-  BRITTLE_CHECK(epsilon > 0 && E > 0 && G_c > 0, "EnergyCriterion: epsilon, E and G_c must be > 0");
+  BRITTLE_CHECK(epsilon > 0 && E > 0 && G_c > 0 && c_R > 0,
+                "EnergyCriterion: epsilon, E, G_c and c_R must be > 0");
   const vtkIdType n = grid.num_cells();
   const double* X = grid.X();
   const vtkIdType* cells = grid.cells();
@@ -166,7 +168,8 @@ bool in_plane(const Vec3& d) {
 
 std::vector<EnergySplit> EnergyCriterion::splits(const Grid& grid, const ForceAssembler& forces,
                                                  double G_min,
-                                                 const std::function<bool(vtkIdType)>& may_split) {
+                                                 const std::function<bool(vtkIdType)>& may_split,
+                                                 const double* split_time, double time) {
   begin_step();
   node_stamp_.resize(grid.num_points(), 0);
   const vtkIdType* cells = grid.cells();
@@ -256,6 +259,8 @@ std::vector<EnergySplit> EnergyCriterion::splits(const Grid& grid, const ForceAs
       if (crack[q] && in_plane(d) && d.head<2>().normalized().dot(t) < kCosCone) front = false;
     }
     if (!front) continue;
+    // Causality: the front's age bounds how far it may have run at c_R.
+    const double age = time - split_time[C];
     options.clear();
     for (vtkIdType K : neighbours) {
       if (crack[K] || !may_split(K)) continue;
@@ -263,6 +268,7 @@ std::vector<EnergySplit> EnergyCriterion::splits(const Grid& grid, const ForceAs
       const bool across = !in_plane(d);  // through the thickness: completes the cut
       const Eigen::Vector2d dxy = d.head<2>().normalized();
       if (!across && behind > 0 && dxy.dot(t) < kCosCone) continue;
+      if (!across && age < d.head<2>().norm() / c_R_ * (1.0 - 1e-9)) continue;
       EnergySplit s = best_plane(grid, K, d);
       if (s.G < G_min) continue;
       if (across) {

@@ -46,7 +46,7 @@ class EnergyCriterion {
   static constexpr double kCosArms = 0.93969262078590843;  // cos 20 deg
 
   EnergyCriterion(const Grid& grid, const ElementData& elements, double epsilon, double E,
-                  double G_c, double sigma_c);
+                  double G_c, double sigma_c, double c_R);
 
   double epsilon() const { return epsilon_; }
   /// The smallest largest-principal stress an element needs for a ball that holds it to
@@ -56,8 +56,11 @@ class EnergyCriterion {
 
   /// The splits of this step, each node once, with the element stresses of the last force
   /// computation: G_eps >= G_min, on nodes `may_split` allows; unordered.
+  /// A front C grows to a neighbour at in-plane distance d only once time - split_time[C] >=
+  /// d / c_R (no crack runs faster than the Rayleigh speed; NaN split times: no wait).
   std::vector<EnergySplit> splits(const Grid& grid, const ForceAssembler& forces, double G_min,
-                                  const std::function<bool(vtkIdType)>& may_split);
+                                  const std::function<bool(vtkIdType)>& may_split,
+                                  const double* split_time, double time);
 
   /// G_eps(K, n) for n = the best plane through direction d (d = 0: any plane).
   EnergySplit best_plane(const Grid& grid, vtkIdType K, const Vec3& d);
@@ -75,7 +78,7 @@ class EnergyCriterion {
     return (i * 2097152LL + j) * 2097152LL + k;
   }
 
-  double epsilon_, E_, hot_stress_, sigma_c_;
+  double epsilon_, E_, hot_stress_, sigma_c_, c_R_;
   std::vector<double> centroid_;  // 3 per cell, reference
   std::vector<double> V0_;
   std::unordered_map<long long, std::vector<std::int32_t>> buckets_;  // cells by epsilon cube

@@ -30,6 +30,7 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
       tip_y_(std::numeric_limits<double>::quiet_NaN()) {
   root_.resize(grid.num_points());
   for (vtkIdType p = 0; p < grid.num_points(); ++p) root_[p] = p;
+  split_time_.assign(grid.num_points(), std::numeric_limits<double>::quiet_NaN());
   if (mode_ == FractureParams::Mode::branching &&
       scene.fracture.criterion == FractureParams::Criterion::energy) {
     double epsilon = scene.fracture.epsilon;
@@ -39,8 +40,12 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
       std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
       epsilon = 3.0 * h[h.size() / 2];
     }
-    energy_ = std::make_unique<EnergyCriterion>(grid, elements, epsilon, scene.material.E, G_c_,
-                                                sigma_c_);
+    // Plane stress: the plates' in-plane waves.
+    const MaterialParams& m = scene.material;
+    const double c_s = std::sqrt(m.E / (2.0 * (1.0 + m.nu) * m.rho0));
+    const double c_p = std::sqrt(m.E / (m.rho0 * (1.0 - m.nu * m.nu)));
+    energy_ = std::make_unique<EnergyCriterion>(grid, elements, epsilon, m.E, G_c_, sigma_c_,
+                                                rayleigh_speed(c_p, c_s));
   }
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
@@ -196,7 +201,8 @@ std::vector<SplitCandidate> Fracture::energy_candidates(const Grid& grid,
   const std::uint8_t* fixed = grid.fixed();
   const double G_min = G_c_ * (1.0 + 1e-9);  // (the same round-off margin as sigma_c's)
   const std::vector<EnergySplit> accepted = energy_->splits(
-      grid, forces, G_min, [&](vtkIdType p) { return !fixed[p] && may_break(grid, p); });
+      grid, forces, G_min, [&](vtkIdType p) { return !fixed[p] && may_break(grid, p); },
+      split_time_.data(), time_);
   std::vector<SplitCandidate> found;
   for (const EnergySplit& s : accepted) found.push_back({s.node, s.G, s.normal});
   std::sort(found.begin(), found.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
@@ -232,6 +238,8 @@ vtkIdType Fracture::apply_remote_split(Grid& grid, ForceAssembler& forces, vtkId
   const vtkIdType B = grid.split_node(K, cells);
   forces.split_node(grid, K, B, cells);
   root_.push_back(root_[K]);
+  split_time_.push_back(time_);
+  split_time_[K] = time_;
   links_.resize_nodes(grid.num_points());
   return B;
 }
@@ -320,6 +328,8 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler
   r.b = grid.split_node(K, b_cells);  // appends B, rewires b_cells; views refreshed
   forces.split_node(grid, K, r.b, b_cells);  // node table and nodal sums of K and B
   root_.push_back(root_[K]);
+  split_time_.push_back(time_);
+  split_time_[K] = time_;
   grid.mass()[r.a] = r.m_a;
   grid.mass()[r.b] = r.m_b;
 

@@ -80,6 +80,10 @@ class Fracture {
   double tip_x() const { return tip_x_; }
   double tip_y() const { return tip_y_; }
   bool enabled() const { return mode_ != FractureParams::Mode::none; }
+  /// The time of the step whose splits come next (the integrator sets it before candidates).
+  void set_time(double t) { time_ = t; }
+  /// Per node: the time it split (both daughters), NaN if it has not.
+  const std::vector<double>& split_time() const { return split_time_; }
   /// The strength of node p: sigma_c, or its Weibull sample (material.weibull_modulus). A
   /// function of the node's reference position and the seed only, so daughters keep their
   /// mother's strength, and every thread and rank count draws the same values.
@@ -115,6 +119,8 @@ class Fracture {
   CohesiveLinks& links_;
   std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a
   std::vector<vtkIdType> root_;  // the original node every node descends from
+  std::vector<double> split_time_;  // per node: when it split (NaN: never)
+  double time_ = 0;
   mutable std::vector<std::uint8_t> hot_;     // scratch of candidates(): corner of a hot cell
   mutable std::vector<vtkIdType> hot_nodes_;  // the nodes so marked, ascending
   long splits_ = 0;

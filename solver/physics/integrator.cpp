@@ -196,6 +196,7 @@ StepReport Integrator::step(double t, double dt) {
     r.damage_dissipated = damage_.update(grid_, elements_, forces_, dt, counted);
   clock.lap(times_.damage);
   if (fracture_.enabled()) {  // (2.10)-(2.12), links (2.6)
+    fracture_.set_time(t + dt);  // the splits of this step happen at t(n+1)
     std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);
     if (halo_)  // the owner decides: a ghost's average (2.10) lacks cells of other ranks
       std::erase_if(over, [this](const SplitCandidate& c) { return !halo_->owned()[c.node]; });
