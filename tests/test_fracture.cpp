@@ -650,9 +650,10 @@ TEST(EnergyCriterion, WilliamsFieldGivesGriffithsReleaseRate) {
 
 // The energy criterion in a pre-stressed plate (release-only: the Branching suite): every ball
 // near the crack holds more than G_c from the start, so only causality bounds the crack.
-// Without the wait of a front (time since its split >= distance / c_R) the RM sweep's runs at
-// 0.4-0.9 sigma_c were fronts faster than c_p (docs/fracture-criteria.md); with it the tip
-// runs just under c_R.
+// Without the wait of a front (time since its split >= distance / c_R) this run has no speed
+// (NaN: its front is faster than c_p; checked by removing the wait), and the RM sweep's runs
+// at 0.9 and 1.0 sigma_c were flagged so (docs/reproduction.md); with it the tip runs just
+// under c_R.
 TEST(Branching, EnergyCriterionCrackInAPrestressedPlateRunsNoFasterThanRayleigh) {
   Scene s = testing::plate_scene(0.6, 10e-6, FractureParams::Mode::branching);
   s.fracture.criterion = FractureParams::Criterion::energy;
