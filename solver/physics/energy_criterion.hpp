@@ -35,7 +35,8 @@ struct EnergySplit {
 /// crack within epsilon, on the plane of the largest eigenvalue of <(T+)^2>: strength for
 /// onset, energy for growth (as Leguillon's coupled criterion). Plates: directions are taken in
 /// x-y; a neighbour through the thickness (in-plane offset under half its distance) completes the
-/// cut on the best plane through it. Stateless between steps: nothing to checkpoint.
+/// cut on the best plane through it. A front grows no faster than the Rayleigh speed (splits()).
+/// The class keeps only caches between steps; the split times it waits on are Fracture's state.
 class EnergyCriterion {
  public:
   /// The calibration constant C: 1 / (the disc mean of (T+)^2_yy of the Williams mode-I
