@@ -21,7 +21,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -35,6 +34,7 @@
 #include "boundary.hpp"
 #include "error.hpp"
 #include "isolated_read.hpp"
+#include "position_hash.hpp"
 
 namespace brittle {
 namespace {
@@ -579,13 +579,6 @@ vtkSmartPointer<vtkUnstructuredGrid> make_mesh(const Scene& scene) {
 
 namespace {
 
-/// SplitMix64's finaliser.
-std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 double signed_volume(const std::array<std::array<double, 3>, 4>& p) {
   double a[3], b[3], c[3];
   for (int k = 0; k < 3; ++k)
@@ -655,15 +648,9 @@ void perturb_mesh(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed
   vtkPoints* points = grid.GetPoints();
   for (vtkIdType p = 0; p < n; ++p) {
     if (held[p]) continue;
-    std::uint64_t h = mix(seed + 0x9e3779b97f4a7c15ULL);
-    for (int k = 0; k < 2; ++k) {
-      std::uint64_t bits;
-      const double c = x[p][k] + 0.0;  // -0.0 and 0.0 are the same place
-      std::memcpy(&bits, &c, sizeof bits);
-      h = mix(h ^ (bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2)));
-    }
+    const std::uint64_t h = position_hash(seed, x[p].data(), 2);  // x, y: columns together
     const double U1 = static_cast<double>(h >> 11) * 0x1.0p-53;
-    const double U2 = static_cast<double>(mix(h) >> 11) * 0x1.0p-53;
+    const double U2 = static_cast<double>(mix64(h) >> 11) * 0x1.0p-53;
     const double reach = fraction * (std::isfinite(flat[p]) ? flat[p] : any[p]);
     const double r = reach * std::sqrt(U2), angle = 2 * M_PI * U1;  // uniform in the disc
     points->SetPoint(p, x[p][0] + r * std::cos(angle), x[p][1] + r * std::sin(angle), x[p][2]);

@@ -254,4 +254,20 @@ class ForceAssembler {
   std::vector<std::vector<vtkIdType>> hot_;    // per range: its hot cells, ascending
 };
 
+/// T_avg(K) = sum_I v_I T_el,I / sum_I v_I over node p's elements   (2.10), with the volumes
+/// of the last compute() and the element stresses `stress` (6 per cell).
+inline Mat3 nodal_average_stress(const ForceAssembler& forces, const double* stress, vtkIdType p) {
+  const std::int32_t* entries = forces.node_entries().data();
+  const double* volume = forces.volumes();
+  double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
+  for (vtkIdType k = forces.node_start()[p]; k < forces.node_end()[p]; ++k) {
+    const vtkIdType e = entries[k] / 4;
+    for (int j = 0; j < 6; ++j) t[j] += volume[e] * stress[6 * e + j];
+    v += volume[e];
+  }
+  Mat3 T;
+  T << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
+  return T / v;
+}
+
 }  // namespace brittle

@@ -139,10 +139,14 @@ bool EnergyCriterion::ball_mean(const Grid& grid, const double X[3], double out[
 }
 
 EnergySplit EnergyCriterion::best_plane(const Grid& grid, vtkIdType K, const Vec3& d) {
+  double m[6];
+  if (!ball_mean(grid, grid.X() + 3 * K, m)) return EnergySplit{K, 0.0, Vec3::UnitY()};
+  return plane_of(K, m, d);
+}
+
+EnergySplit EnergyCriterion::plane_of(vtkIdType K, const double m[6], const Vec3& d) const {
   EnergySplit best;
   best.node = K;
-  double m[6];
-  if (!ball_mean(grid, grid.X() + 3 * K, m)) return best;
   Mat3 M = to_matrix(m);
   if (d.squaredNorm() > 0) {  // the best plane that holds d: top eigenvector of P M P
     const Vec3 u = d.normalized();
@@ -178,7 +182,7 @@ std::vector<EnergySplit> EnergyCriterion::splits(const Grid& grid, const ForceAs
   const std::uint8_t* crack = grid.crack();
   const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
-  const double *volume = forces.volumes(), *stress = grid.stress();
+  const double* stress = grid.stress();
   // The hot cells' corners, ascending: fronts (crack nodes) and nucleation sites (others).
   std::vector<vtkIdType> corners;
   auto visit = [&](vtkIdType e) {
@@ -227,17 +231,11 @@ std::vector<EnergySplit> EnergyCriterion::splits(const Grid& grid, const ForceAs
       bool next_to_crack = false;
       for (vtkIdType q : neighbours) next_to_crack = next_to_crack || crack[q];
       if (next_to_crack || !may_split(C)) continue;
-      double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
-      for (vtkIdType k = start[C]; k < end[C]; ++k) {
-        const vtkIdType e = entries[k] / 4;
-        for (int j = 0; j < 6; ++j) t[j] += volume[e] * stress[6 * e + j];
-        v += volume[e];
-      }
-      if (principal_values_below(to_matrix(t) / v, sigma_c_)) continue;
+      if (principal_values_below(nodal_average_stress(forces, stress, C), sigma_c_)) continue;
       double m[6];
       bool crack_near = false;
       if (!ball_mean(grid, X + 3 * C, m, &crack_near) || crack_near) continue;
-      propose(best_plane(grid, C, Vec3::Zero()));
+      propose(plane_of(C, m, Vec3::Zero()));
       continue;
     }
     // A front: its crack neighbours (in the plane) lie behind it, t = the mean direction

@@ -65,6 +65,8 @@ class EnergyCriterion {
 
   /// G_eps(K, n) for n = the best plane through direction d (d = 0: any plane).
   EnergySplit best_plane(const Grid& grid, vtkIdType K, const Vec3& d);
+  /// The same from K's ball mean m (ball_mean's 6 components).
+  EnergySplit plane_of(vtkIdType K, const double m[6], const Vec3& d) const;
   /// <(T+)^2>_eps about reference point X: 6 components xx yy zz xy yz xz; false if no cell
   /// is within epsilon. `crack_near` (if given) is set when a corner of one of its cells is a
   /// crack node.

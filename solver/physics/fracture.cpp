@@ -5,15 +5,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <tuple>
 
 #include <Eigen/Eigenvalues>
 
 #include "error.hpp"
+#include "position_hash.hpp"
 
 namespace brittle {
+
+namespace {
+
+/// Decreasing sigma1 (or G_eps), ties by node id: the order splits are made in.
+void sort_in_splitting_order(std::vector<SplitCandidate>& c) {
+  std::sort(c.begin(), c.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
+    return std::tie(b.sigma1, a.node) < std::tie(a.sigma1, b.node);
+  });
+}
+
+}  // namespace
 
 Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
                    CohesiveLinks& links)
@@ -40,12 +51,9 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
       std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
       epsilon = 3.0 * h[h.size() / 2];
     }
-    // Plane stress: the plates' in-plane waves.
-    const MaterialParams& m = scene.material;
-    const double c_s = std::sqrt(m.E / (2.0 * (1.0 + m.nu) * m.rho0));
-    const double c_p = std::sqrt(m.E / (m.rho0 * (1.0 - m.nu * m.nu)));
-    energy_ = std::make_unique<EnergyCriterion>(grid, elements, epsilon, m.E, G_c_, sigma_c_,
-                                                rayleigh_speed(c_p, c_s));
+    energy_ = std::make_unique<EnergyCriterion>(grid, elements, epsilon, scene.material.E, G_c_,
+                                                sigma_c_,
+                                                plane_stress_rayleigh_speed(scene.material));
   }
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
@@ -56,28 +64,11 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
       plane_nodes_.push_back(p);
 }
 
-namespace {
-
-/// SplitMix64's finaliser: a well-mixed 64-bit hash step.
-std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-}  // namespace
-
 /// sigma_c,K = s0 (-ln U)^(1/m), s0 = sigma_c / Gamma(1 + 1/m): Weibull, mean sigma_c; U from a
 /// hash of the seed and the bits of the node's reference position (docs/branching.md).
 double Fracture::strength(const Grid& grid, vtkIdType p) const {
   if (weibull_m_ <= 0) return sigma_c_;
-  std::uint64_t h = mix64(strength_seed_ + 0x9e3779b97f4a7c15ULL);
-  for (int k = 0; k < 3; ++k) {
-    std::uint64_t bits;
-    const double X = grid.X()[3 * p + k] + 0.0;  // -0.0 and 0.0 are the same place
-    std::memcpy(&bits, &X, sizeof bits);
-    h = mix64(h ^ (bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2)));
-  }
+  const std::uint64_t h = position_hash(strength_seed_, grid.X() + 3 * p, 3);
   const double U = (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;  // in (0, 1)
   return weibull_scale_ * std::pow(-std::log(U), 1.0 / weibull_m_);
 }
@@ -113,7 +104,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   const bool straight = mode_ == FractureParams::Mode::straight;
   const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
-  const double *bound = forces.sigma1_bound(), *volume = forces.volumes(), *stress = grid.stress();
+  const double *bound = forces.sigma1_bound(), *stress = grid.stress();
   const std::uint8_t* fixed = grid.fixed();
   // "sigma1 reaches sigma_c" up to round-off: a plate loaded to exactly sigma_c holds T_yy =
   // sigma_c to ~1e-15 everywhere, and that uniform state must not break every node at once.
@@ -164,16 +155,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
         for (vtkIdType k = start[p]; k < end[p]; ++k) most = std::max(most, bound[entries[k] / 4]);
         if (most < sigma_K) continue;
       }
-      // T_avg(K) = sum_I v_I T_el,I / sum_I v_I   (2.10)
-      double t[6] = {0, 0, 0, 0, 0, 0}, v = 0;
-      for (vtkIdType k = start[p]; k < end[p]; ++k) {
-        const vtkIdType e = entries[k] / 4;
-        for (int j = 0; j < 6; ++j) t[j] += volume[e] * stress[6 * e + j];
-        v += volume[e];
-      }
-      Mat3 T;
-      T << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
-      T /= v;
+      const Mat3 T = nodal_average_stress(forces, stress, p);  // (2.10)
       SplitCandidate c;
       c.node = p;
       if (straight) {
@@ -190,9 +172,7 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
 #pragma omp critical
     found.insert(found.end(), mine.begin(), mine.end());
   }
-  std::sort(found.begin(), found.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
-    return std::tie(b.sigma1, a.node) < std::tie(a.sigma1, b.node);
-  });
+  sort_in_splitting_order(found);
   return found;
 }
 
@@ -205,9 +185,7 @@ std::vector<SplitCandidate> Fracture::energy_candidates(const Grid& grid,
       split_time_.data(), time_);
   std::vector<SplitCandidate> found;
   for (const EnergySplit& s : accepted) found.push_back({s.node, s.G, s.normal});
-  std::sort(found.begin(), found.end(), [](const SplitCandidate& a, const SplitCandidate& b) {
-    return std::tie(b.sigma1, a.node) < std::tie(a.sigma1, b.node);
-  });
+  sort_in_splitting_order(found);
   return found;
 }
 
@@ -227,6 +205,12 @@ std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements
   return records;
 }
 
+void Fracture::note_split(vtkIdType K) {
+  root_.push_back(root_[K]);  // the new node's
+  split_time_.push_back(time_);
+  split_time_[K] = time_;
+}
+
 void Fracture::count_split(double A_c, double X, double Y) {
   crack_area_ += A_c;
   ++splits_;
@@ -237,9 +221,7 @@ vtkIdType Fracture::apply_remote_split(Grid& grid, ForceAssembler& forces, vtkId
                                        const std::vector<vtkIdType>& cells) {
   const vtkIdType B = grid.split_node(K, cells);
   forces.split_node(grid, K, B, cells);
-  root_.push_back(root_[K]);
-  split_time_.push_back(time_);
-  split_time_[K] = time_;
+  note_split(K);
   links_.resize_nodes(grid.num_points());
   return B;
 }
@@ -327,9 +309,7 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler
 
   r.b = grid.split_node(K, b_cells);  // appends B, rewires b_cells; views refreshed
   forces.split_node(grid, K, r.b, b_cells);  // node table and nodal sums of K and B
-  root_.push_back(root_[K]);
-  split_time_.push_back(time_);
-  split_time_[K] = time_;
+  note_split(K);
   grid.mass()[r.a] = r.m_a;
   grid.mass()[r.b] = r.m_b;
 

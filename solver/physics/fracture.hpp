@@ -103,6 +103,10 @@ class Fracture {
   std::vector<SplitCandidate> energy_candidates(const Grid& grid,
                                                 const ForceAssembler& forces) const;
 
+  /// The bookkeeping of a split of K whose new node was just appended: its root, and both
+  /// daughters' split time.
+  void note_split(vtkIdType K);
+
   /// Inside fracture.region (or no region given): the node may break.
   bool may_break(const Grid& grid, vtkIdType p) const;
 

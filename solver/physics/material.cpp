@@ -34,6 +34,11 @@ double rayleigh_speed(double c_p, double c_s) {
   return 0.5 * (lo + hi) * c_s;
 }
 
+double plane_stress_rayleigh_speed(const MaterialParams& m) {
+  return rayleigh_speed(std::sqrt(m.E / (m.rho0 * (1.0 - m.nu * m.nu))),
+                        std::sqrt(m.E / (2.0 * (1.0 + m.nu) * m.rho0)));
+}
+
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega) {
   const double J = F.determinant();
   const double y = inverse_cbrt(J);  // J^(-1/3) without pow()

@@ -23,6 +23,8 @@ struct ElasticConstants {
 /// Rayleigh wave speed for given P and S speeds: root of (2 - k^2)^2 = 4 sqrt(1 - k^2)
 /// sqrt(1 - k^2 c_s^2/c_p^2), k = v/c_s. For plane stress pass c_p = sqrt(E/(rho0 (1 - nu^2))).
 double rayleigh_speed(double c_p, double c_s);
+/// The Rayleigh speed of a thin plate's in-plane waves (plane stress).
+double plane_stress_rayleigh_speed(const MaterialParams& m);
 
 /// rho0 Sigma = (1-Omega) [K((J-1) - ln J) + mu/2 (alpha1 - 3)],  alpha1 = J^(-2/3) tr B   (B.2)
 double strain_energy_density(const Mat3& F, double K, double mu, double Omega);
