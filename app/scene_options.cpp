@@ -376,11 +376,19 @@ const std::vector<Key>& scene_keys() {
              "how a node fails (docs/fracture-criteria.md)",
              "nodal-stress (the paper's (2.10)-(2.12): sigma1 of the nodal average "
              "reaches sigma_c) | energy (the energy of a plane's tractions within "
-             "fracture.epsilon reaches 2 gamma per unit crack area; branching mode)",
-             {{"nodal-stress", FP::Criterion::nodal_stress}, {"energy", FP::Criterion::energy}}));
+             "fracture.epsilon reaches 2 gamma per unit crack area; branching mode) | facet "
+             "(element faces open when their traction reaches the strength; nodes split where "
+             "open faces cut their cells apart; branching mode)",
+             {{"nodal-stress", FP::Criterion::nodal_stress},
+              {"energy", FP::Criterion::energy},
+              {"facet", FP::Criterion::facet}}));
     k.push_back(field("fracture.epsilon", &Scene::fracture, &FP::epsilon, "m",
                       "the energy criterion's length: the radius of the ball whose energy a "
                       "split releases (0 = 3 x the median element size)",
+                      ">= 0", non_negative));
+    k.push_back(field("fracture.beta", &Scene::fracture, &FP::beta, "",
+                      "the facet criterion's shear weight: a face's effective traction is "
+                      "sqrt(<t_n>^2 + t_s^2 / beta^2); 0 = the normal traction alone",
                       ">= 0", non_negative));
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
@@ -1011,6 +1019,11 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   ": fracture.criterion = energy has no per-node strengths (expected "
                   "material.weibull_modulus = 0)");
   }
+  BRITTLE_CHECK(s.fracture.criterion != FractureParams::Criterion::facet ||
+                    s.fracture.mode == FractureParams::Mode::branching,
+                o.latest({"fracture.criterion", "fracture.mode"}),
+                ": fracture.criterion = facet needs fracture.mode = branching (straight splits "
+                "the paper's plane by its normal stress (6.7))");
   for (const BoundaryParams& b : s.boundaries)
     BRITTLE_CHECK(
         b.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",

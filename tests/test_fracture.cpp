@@ -665,5 +665,94 @@ TEST(Branching, EnergyCriterionCrackInAPrestressedPlateRunsNoFasterThanRayleigh)
   EXPECT_GE(run.summary.crack_speed.speed, 0.8 * c_R);
 }
 
+// The facet criterion's topology (docs/fracture-criteria.md): faces between K's cells above
+// y = 0 and those below, opened, cut K's cells into exactly those two groups; split() then
+// gives the upper or the lower group a new node and conserves mass and momentum, while the
+// neighbours on the plane, whose cells the open faces do not cut all the way round, keep theirs.
+TEST(FacetCriterion, OpenFacesCutANodeIntoTheGroupsTheySeparate) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 1e-6, 1e-3);
+  s.fracture.criterion = FractureParams::Criterion::facet;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  Grid& g = sim.grid();
+  const vtkIdType K = node_on_midplane(g, 10e-3);
+  ASSERT_GE(K, 0);
+  const auto above = [&](vtkIdType e) {
+    double y = 0;
+    for (int j = 0; j < 4; ++j) y += g.X()[3 * g.cells()[4 * e + j] + 1];
+    return y > 0;
+  };
+  const ForceAssembler& forces = sim.forces();
+  std::vector<vtkIdType> star, up;
+  for (vtkIdType k = forces.node_start()[K]; k < forces.node_end()[K]; ++k)
+    star.push_back(forces.node_entries()[k] / 4);
+  for (vtkIdType e : star)
+    if (above(e)) up.push_back(e);
+  ASSERT_GT(up.size(), 0u);
+  ASSERT_LT(up.size(), star.size());
+  // The faces of K's upper cells whose cell across is one of K's lower cells.
+  std::vector<SplitCandidate> faces;
+  for (vtkIdType e : up)
+    for (int j = 0; j < 4; ++j) {
+      vtkIdType n = -1;  // the cell across face j: the other cell with its three corners
+      for (vtkIdType m : star) {
+        if (m == e || above(m)) continue;
+        int shared = 0;
+        for (int c = 0; c < 4; ++c)
+          if (c != j)
+            shared += std::count(g.cells() + 4 * m, g.cells() + 4 * m + 4, g.cells()[4 * e + c]);
+        if (shared == 3) n = m;
+      }
+      if (n < 0) continue;
+      SplitCandidate c;
+      c.node = K;
+      c.sigma1 = 1.5;
+      c.face = 4 * e + j;
+      faces.push_back(c);
+    }
+  ASSERT_GE(faces.size(), 2u);
+  const double mass = total_mass(g);
+  const Vec3 p = total_momentum(g);
+  const auto records = sim.fracture().split(g, sim.elements(), sim.forces(), faces);
+  ASSERT_EQ(records.size(), 1u);
+  const SplitRecord& r = records[0];
+  EXPECT_EQ(r.a, K);
+  // The group of K's first cell keeps K; the other takes the new node.
+  std::vector<vtkIdType> expected;
+  for (vtkIdType e : star)
+    if (above(e) != above(star.front())) expected.push_back(e);
+  EXPECT_EQ(r.b_cells, expected);
+  EXPECT_NEAR(total_mass(g), mass, 1e-14 * mass);
+  EXPECT_LT((total_momentum(g) - p).norm(), 1e-14 * mass);
+  EXPECT_GT(r.A_c, 0.0);
+  // Opened again (no new faces): nothing more to split.
+  EXPECT_TRUE(sim.fracture().split(g, sim.elements(), sim.forces(), {}).empty());
+}
+
+// The facet criterion keeps a run independent of the thread count (bitwise), with damage and
+// rate-dependent links, and its faces open only where the stress reached sigma_c: a plate
+// at 0.9 sigma_c breaks from the notch.
+TEST(Branching, FacetCriterionResultsIndependentOfThreadCount) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 12e-6);
+  s.fracture.criterion = FractureParams::Criterion::facet;
+  s.fracture.alpha = 9.35e-8;
+  s.damage.beta1 = 5e6;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  std::vector<std::vector<double>> x;
+  std::vector<long> splits;
+  for (int threads : {1, 2}) {
+    s.run.threads = threads;
+    Simulation sim(s, *mesh);
+    splits.push_back(sim.run({}).splits);
+    const Grid& g = sim.grid();
+    x.emplace_back(g.x(), g.x() + 3 * g.num_points());
+    EXPECT_NEAR(sim.fracture().tip_y(), 0.0, 2e-3);
+    EXPECT_GT(sim.fracture().tip_x(), s.geometry.notch_depth);
+  }
+  EXPECT_GT(splits[0], 0);
+  EXPECT_EQ(splits[0], splits[1]);
+  EXPECT_EQ(x[0], x[1]);
+}
+
 }  // namespace
 }  // namespace brittle

@@ -55,6 +55,13 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
                                                 sigma_c_,
                                                 plane_stress_rayleigh_speed(scene.material));
   }
+  if (mode_ == FractureParams::Mode::branching &&
+      scene.fracture.criterion == FractureParams::Criterion::facet) {
+    facet_ = std::make_unique<FacetCriterion>(scene.fracture.beta,
+                                              [this](const double X[3]) { return strength_at(X); });
+    face_open_.assign(4 * static_cast<std::size_t>(grid.num_cells()), 0);
+    facet_->weakest(grid, root_);  // (builds the face tables)
+  }
   if (mode_ != FractureParams::Mode::straight) return;
   const double tol = 1e-6 * scene.geometry.H;
   const double* X = grid.X();
@@ -67,8 +74,12 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
 /// sigma_c,K = s0 (-ln U)^(1/m), s0 = sigma_c / Gamma(1 + 1/m): Weibull, mean sigma_c; U from a
 /// hash of the seed and the bits of the node's reference position (docs/branching.md).
 double Fracture::strength(const Grid& grid, vtkIdType p) const {
+  return strength_at(grid.X() + 3 * p);
+}
+
+double Fracture::strength_at(const double X[3]) const {
   if (weibull_m_ <= 0) return sigma_c_;
-  const std::uint64_t h = position_hash(strength_seed_, grid.X() + 3 * p, 3);
+  const std::uint64_t h = position_hash(strength_seed_, X, 3);
   const double U = (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;  // in (0, 1)
   return weibull_scale_ * std::pow(-std::log(U), 1.0 / weibull_m_);
 }
@@ -85,6 +96,9 @@ const double* Fracture::strengths(const Grid& grid) const {
 double Fracture::hot_threshold(const Grid& grid) const {
   if (mode_ != FractureParams::Mode::branching) return std::numeric_limits<double>::infinity();
   if (energy_) return energy_->hot_stress();
+  if (facet_)  // (with a shear term the faces are all scanned: no bound from sigma1)
+    return facet_->beta() == 0 ? facet_->weakest(grid, root_)
+                               : std::numeric_limits<double>::infinity();
   const double* own = strengths(grid);
   if (!own) return sigma_c_;  // (candidates() adds its 1e-9 margin above this)
   return *std::min_element(own, own + grid.num_points());
@@ -101,6 +115,16 @@ std::vector<SplitCandidate> Fracture::candidates(const Grid& grid,
   std::vector<SplitCandidate> found;
   if (mode_ == FractureParams::Mode::none) return found;
   if (energy_) return energy_candidates(grid, forces);
+  if (facet_) {
+    const std::uint8_t* fixed = grid.fixed();
+    const std::vector<FacetOpening> open =
+        facet_->over(grid, forces, root_, face_open_,
+                     [&](vtkIdType p) { return !fixed[p] && may_break(grid, p); });
+    for (const FacetOpening& o : open)  // (in their order: largest ratio first)
+      found.push_back(
+          {grid.cells()[o.face / 4 * 4 + (o.face + 1) % 4], o.ratio, Vec3::UnitY(), o.face});
+    return found;
+  }
   const bool straight = mode_ == FractureParams::Mode::straight;
   const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
@@ -192,6 +216,7 @@ std::vector<SplitCandidate> Fracture::energy_candidates(const Grid& grid,
 std::vector<SplitRecord> Fracture::split(Grid& grid, const ElementData& elements,
                                          ForceAssembler& forces,
                                          const std::vector<SplitCandidate>& candidates) {
+  if (facet_) return split_facets(grid, elements, forces, candidates);
   std::vector<SplitRecord> records;
   for (const SplitCandidate& c : candidates) {
     SplitRecord r;
@@ -238,38 +263,92 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler
                          const SplitCandidate& c, SplitRecord& r) {
   const vtkIdType K = c.node;
   // Cells of K: the node table is from the start of the step; splits of other nodes in this
-  // step only renamed *their* corners, so K's cells are still exactly these.
+  // step only renamed *their* corners, so K's cells are still exactly these (in cell order).
   const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
   const std::int32_t* entries = forces.node_entries().data();
   const double* x = grid.x();
   const vtkIdType* cells = grid.cells();
   const Vec3 xK(x[3 * K], x[3 * K + 1], x[3 * K + 2]);
+  std::vector<vtkIdType> b_cells;  // those whose centroid lies on the + side
+  for (vtkIdType k = start[K]; k < end[K]; ++k) {
+    const vtkIdType e = entries[k] / 4;
+    Vec3 centroid = Vec3::Zero();
+    for (int j = 0; j < 4; ++j) centroid += Vec3(x + 3 * cells[4 * e + j]);
+    if ((0.25 * centroid - xK).dot(c.normal) > 0.0) b_cells.push_back(e);
+  }
+  if (b_cells.empty() || b_cells.size() == static_cast<std::size_t>(end[K] - start[K]))
+    return false;  // nothing to split
+  split_cells(grid, elements, forces, K, std::move(b_cells), c.sigma1, r);
+  return true;
+}
 
+std::vector<SplitRecord> Fracture::split_facets(Grid& grid, const ElementData& elements,
+                                                ForceAssembler& forces,
+                                                const std::vector<SplitCandidate>& candidates) {
+  // Open the faces (both sides), then look at their corners on both sides: a corner may be
+  // two daughters already, one in each cell.
+  const vtkIdType* cells = grid.cells();
+  std::vector<std::pair<vtkIdType, double>> touched;  // (corner, the ratio of its face)
+  for (const SplitCandidate& c : candidates) {
+    const vtkIdType f = c.face, g = facet_->twin(f);
+    face_open_[f] = face_open_[g] = 1;
+    for (vtkIdType side : {f, g})
+      for (int k = 0; k < 4; ++k)
+        if (k != side % 4) touched.emplace_back(cells[side / 4 * 4 + k], c.sigma1);
+  }
+  std::sort(touched.begin(), touched.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.first, b.second) < std::tie(b.first, a.second);
+  });  // by node, then the largest ratio first
+  std::vector<SplitRecord> records;
+  std::vector<int> group;
+  const std::uint8_t* fixed = grid.fixed();
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    if (i > 0 && touched[i].first == touched[i - 1].first) continue;
+    const vtkIdType K = touched[i].first;
+    if (fixed[K] || !may_break(grid, K)) continue;
+    const int n = facet_->groups(forces, face_open_, K, group);
+    if (n < 2) continue;
+    std::vector<std::vector<vtkIdType>> of_group(n);
+    const vtkIdType start = forces.node_start()[K];
+    for (std::size_t k = 0; k < group.size(); ++k)
+      of_group[group[k]].push_back(forces.node_entries()[start + k] / 4);
+    for (int g = 1; g < n; ++g) {  // the first group keeps K (entries are in cell order)
+      SplitRecord r;
+      split_cells(grid, elements, forces, K, std::move(of_group[g]), touched[i].second, r);
+      if (count_splits_) {
+        const double* X = grid.X() + 3 * r.a;
+        count_split(r.A_c, X[0], X[1]);
+      }
+      records.push_back(std::move(r));
+    }
+  }
+  return records;
+}
+
+void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembler& forces,
+                           vtkIdType K, std::vector<vtkIdType> b_cells, double sigma1,
+                           SplitRecord& r) {
+  const vtkIdType *start = forces.node_start().data(), *end = forces.node_end().data();
+  const std::int32_t* entries = forces.node_entries().data();
+  const vtkIdType* cells = grid.cells();
   struct Corner {
     vtkIdType cell;
     int corner;
     bool plus;
   };
   std::vector<Corner> around;
-  int plus = 0;
   for (vtkIdType k = start[K]; k < end[K]; ++k) {
     const vtkIdType e = entries[k] / 4;
-    Vec3 centroid = Vec3::Zero();
-    for (int j = 0; j < 4; ++j) centroid += Vec3(x + 3 * cells[4 * e + j]);
-    const bool side = (0.25 * centroid - xK).dot(c.normal) > 0.0;
-    around.push_back({e, static_cast<int>(entries[k] % 4), side});
-    plus += side;
+    around.push_back({e, static_cast<int>(entries[k] % 4),
+                      std::binary_search(b_cells.begin(), b_cells.end(), e)});
   }
-  if (plus == 0 || plus == static_cast<int>(around.size())) return false;  // nothing to split
 
   // Masses and element forces of the two daughters (2.3); m_a + m_b = m_K exactly.
   r.a = K;
-  std::vector<vtkIdType> b_cells;
   for (const Corner& k : around) {
     const Vec3 f = forces.corner_force(k.cell, k.corner);
     if (k.plus) {
       r.F_b += f;
-      b_cells.push_back(k.cell);
     } else {
       r.F_a += f;
       r.m_a += 0.25 * rho0_ * elements.V0[k.cell];
@@ -320,10 +399,9 @@ bool Fracture::split_one(Grid& grid, const ElementData& elements, ForceAssembler
   r.f0 = (r.m_a * r.F_b - r.m_b * r.F_a) / (r.m_a + r.m_b);
   CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), links_.law());
   r.A_c = link.A_c;
-  r.sigma1 = c.sigma1;
+  r.sigma1 = sigma1;
   if (link.f0 > 0) links_.add(std::move(link), grid.num_points());
   r.b_cells = std::move(b_cells);
-  return true;
 }
 
 }  // namespace brittle

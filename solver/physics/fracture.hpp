@@ -9,16 +9,20 @@
 #include "cohesive.hpp"
 #include "element_forces.hpp"
 #include "energy_criterion.hpp"
+#include "facet_criterion.hpp"
 #include "grid.hpp"
 #include "scene.hpp"
 
 namespace brittle {
 
-/// A node over the criterion this step: its sigma1 and the normal of its split plane.
+/// A node over the criterion this step: its sigma1 and the normal of its split plane. The
+/// facet criterion's candidates are faces that open (face >= 0, sigma1 = its effective
+/// traction over its strength; node: a corner).
 struct SplitCandidate {
   vtkIdType node = -1;
   double sigma1 = 0;
   Vec3 normal = Vec3::UnitY();
+  vtkIdType face = -1;
 };
 
 /// What a split did, for tests and trackers.
@@ -49,6 +53,8 @@ class Fracture {
 
   /// Splits the candidates in order (SPEC 5): plane through the node normal to the
   /// candidate's direction; cells whose current centroid lies on its + side adopt a new node.
+  /// The facet criterion opens the candidates' faces, then splits each of their corners whose
+  /// cells the open faces cut into groups: every group but the first adopts a new node.
   /// Makes the link of each split (2.6) and cuts the links the node held (Appendix A). Then
   /// rebuilds the force assembler's node table, so its nodal forces are those of the new
   /// topology.
@@ -98,6 +104,14 @@ class Fracture {
  private:
   bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                  const SplitCandidate& c, SplitRecord& record);
+  /// K's cells `b_cells` (ascending, some but not all of K's) adopt a new node: masses, forces,
+  /// crack faces and the link (2.3), (2.6), Appendix A.
+  void split_cells(Grid& grid, const ElementData& elements, ForceAssembler& forces, vtkIdType K,
+                   std::vector<vtkIdType> b_cells, double sigma1, SplitRecord& r);
+  /// The facet criterion's split(): opens the faces, splits the nodes they cut.
+  std::vector<SplitRecord> split_facets(Grid& grid, const ElementData& elements,
+                                        ForceAssembler& forces,
+                                        const std::vector<SplitCandidate>& candidates);
 
   /// The energy criterion's candidates (fracture.criterion = energy).
   std::vector<SplitCandidate> energy_candidates(const Grid& grid,
@@ -114,6 +128,10 @@ class Fracture {
   std::vector<double> region_;
   double sigma_c_, rho0_, G_c_;
   mutable std::unique_ptr<EnergyCriterion> energy_;  // fracture.criterion = energy
+  mutable std::unique_ptr<FacetCriterion> facet_;    // fracture.criterion = facet
+  std::vector<std::uint8_t> face_open_;  // facet: 4 per cell, face 4 e + j open (both sides)
+  /// sigma_c, or the Weibull sample of the point X (strength()).
+  double strength_at(const double X[3]) const;
   double weibull_m_ = 0, weibull_scale_ = 0;
   std::uint64_t strength_seed_ = 0;
   /// Per-node strengths (heterogeneous runs), extended to new nodes as they appear: a cache

@@ -98,10 +98,14 @@ struct FractureParams {
   enum class Mode { none, straight, branching };
   Mode mode = Mode::none;          ///< none: no node breaks; straight: y = 0, x >= a only (6.7)
   /// How a node fails (docs/fracture-criteria.md): nodal_stress, the paper's (2.10)-(2.12);
-  /// energy, the energy of a plane's tractions over a ball of radius epsilon against 2 gamma.
-  enum class Criterion { nodal_stress, energy };
+  /// energy, the energy of a plane's tractions over a ball of radius epsilon against 2 gamma;
+  /// facet, faces open when their traction reaches the strength, nodes split where open faces
+  /// cut their cells apart.
+  enum class Criterion { nodal_stress, energy, facet };
   Criterion criterion = Criterion::nodal_stress;
   double epsilon = 0.0;  ///< the energy criterion's length [m]; 0 = 3 x the median element size
+  /// The facet criterion's shear weight: t_eff = sqrt(<t_n>^2 + t_s^2 / beta^2); 0 = t_n alone.
+  double beta = 0.0;
   double alpha = 0.0;              ///< rate parameter of (4.4) [s]; 0 = rate-independent (3.5)
   double n = 0.2;                  ///< exponent of (4.4)
   double speed_window_start = 10e-6;  ///< steady crack speed fitted from this time [s]

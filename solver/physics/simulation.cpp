@@ -151,6 +151,11 @@ void Simulation::decompose(Halo& halo) {
                     scene_.fracture.mode != FractureParams::Mode::branching,
                 "fracture.criterion = energy runs on one process for now (expected a run "
                 "without mpirun, or fracture.criterion = nodal-stress)");
+  // A face between two ranks' cells, and the groups of a node's cells, are not exchanged.
+  BRITTLE_CHECK(scene_.fracture.criterion != FractureParams::Criterion::facet ||
+                    scene_.fracture.mode != FractureParams::Mode::branching,
+                "fracture.criterion = facet runs on one process for now (expected a run "
+                "without mpirun, or fracture.criterion = nodal-stress)");
   halo_ = &halo;
   integrator_.set_halo(&halo);
   fracture_.defer_counting();
