@@ -330,6 +330,13 @@ const std::vector<Key>& scene_keys() {
     k.push_back(field("mesh.perturb_seed", &Scene::mesh, &MeP::perturb_seed, "",
                       "seed of the nodal perturbation (the same seed, the same mesh)", ">= 0",
                       [](const int& v) { return v >= 0; }));
+    k.push_back(word("mesh.algorithm", &Scene::mesh, &MeP::algorithm,
+                     "Gmsh's 2D algorithm for the generated plate (docs/mesh.md)",
+                     "frontal-delaunay (Gmsh's default: rows of near-equilateral triangles) | "
+                     "delaunay (less regular: cracks on faces follow no rows) | meshadapt",
+                     {{"frontal-delaunay", MeP::Algorithm::frontal_delaunay},
+                      {"delaunay", MeP::Algorithm::delaunay},
+                      {"meshadapt", MeP::Algorithm::meshadapt}}));
     k.push_back(field("mesh.max_elements", &Scene::mesh, &MeP::max_elements, "",
                       "refuse a generated plate estimated to have more tets than this (about "
                       "0.7 kB each)",

@@ -354,8 +354,13 @@ void permute_arrays(vtkFieldData* data, const std::vector<vtkIdType>& old_of_new
 namespace {
 
 /// The size field of the plate: band_size inside |y| < band, growing to size over a
-/// transition of width `band` (Gmsh Box field as background mesh).
-void set_band_size(const GeometryParams& g, const MeshParams& m) {
+/// transition of width `band` (Gmsh Box field as background mesh); and mesh.algorithm (set
+/// every time: Gmsh keeps options from one mesh of the process to the next).
+void set_size_and_algorithm(const GeometryParams& g, const MeshParams& m) {
+  using A = MeshParams::Algorithm;
+  gmsh::option::setNumber("Mesh.Algorithm", m.algorithm == A::delaunay    ? 5
+                                            : m.algorithm == A::meshadapt ? 1
+                                                                          : 6);
   const double inner = m.band > 0 && m.band_size > 0 ? m.band_size : m.size;
   const int box = gmsh::model::mesh::field::add("Box");
   gmsh::model::mesh::field::setNumber(box, "VIn", inner);
@@ -423,7 +428,7 @@ void build_notched_plate(const GeometryParams& g, const MeshParams& m) {
                 " pieces (expected one body)");
   occ::extrude(cut, 0, 0, g.T, extruded, {m.layers}, {}, false);
   occ::synchronize();
-  set_band_size(g, m);
+  set_size_and_algorithm(g, m);
   gmsh::model::mesh::generate(3);
 }
 
@@ -472,7 +477,7 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
     geo::synchronize();
     gmsh::model::mesh::embed(1, {crack_line}, 2, surface);
 
-    set_band_size(g, m);
+    set_size_and_algorithm(g, m);
 
     extrude_and_mesh(g.T, m.layers);
   });

@@ -220,7 +220,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("geometry", g.L, g.H, g.T, g.notch_depth, g.notch_base, g.notches);
   MeshParams& me = s.mesh;
   section("mesh", me.file, me.size, me.band, me.band_size, me.layers, me.perturb,
-          me.perturb_seed);
+          me.perturb_seed, me.algorithm);
   section("loading", s.loading.sigma_over_sigmac, s.loading.sigma);
   section("initial", s.initial.state, s.initial.velocities);
   section("boundary", s.boundaries);
@@ -248,8 +248,8 @@ constexpr std::uint32_t kFormat = 10;  // 2: exact energy sums; 3: cut-through a
                                        // 7: the piece count (decomposed runs' checkpoints);
                                        // 8: pieces without whole-grid node tables;
                                        // 9: fracture.criterion, epsilon, mesh.perturb keys
-                                       // and the nodes' split times; 10: fracture.beta and
-                                       // the facet criterion's open faces
+                                       // and the nodes' split times; 10: fracture.beta,
+                                       // mesh.algorithm and the facet criterion's open faces
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

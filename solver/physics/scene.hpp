@@ -63,6 +63,10 @@ struct MeshParams {
   /// their shortest in-plane edge (0 = none; at most 0.3); perturb_seed draws the moves.
   double perturb = 0.0;
   int perturb_seed = 1;
+  /// Gmsh's 2D algorithm for the plate's outline, extruded through the thickness (docs/mesh.md):
+  /// Frontal-Delaunay (Gmsh's default, near-equilateral rows), Delaunay, MeshAdapt.
+  enum class Algorithm { frontal_delaunay, delaunay, meshadapt };
+  Algorithm algorithm = Algorithm::frontal_delaunay;
   /// Refuse a generated mesh whose estimated tet count exceeds this (docs/scenes.md, guards).
   double max_elements = 10e6;
 };
