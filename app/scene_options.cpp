@@ -428,6 +428,11 @@ const std::vector<Key>& scene_keys() {
                       "crack pattern (branches.csv): crack tracks shorter than this are spurs, "
                       "not branches (0 = the tracker's join distance, 4 element sizes)",
                       ">= 0", non_negative));
+    k.push_back(field("fracture.track_join", &Scene::fracture, &FP::track_join, "m",
+                      "crack tracker: a split within this distance of a crack's tip or path "
+                      "belongs to that crack, and two arms are a branching once twice this apart "
+                      "(0 = 4 element sizes; wider for cracks with side cracks, docs/crack_fronts.md)",
+                      ">= 0", non_negative));
     // [damage] — continuum damage (SPEC 6, paper section 5)
     k.push_back(field("damage.beta1", &Scene::damage, &DP::beta1, "1/s",
                       "damage rate (5.2); 0 = no damage, paper: 5e6", ">= 0", non_negative));

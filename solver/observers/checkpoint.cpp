@@ -227,7 +227,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("sensor", s.sensors);
   FractureParams& f = s.fracture;
   section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
-          f.min_branch_length, f.criterion, f.epsilon, f.beta);
+          f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
   section("run", s.run.cfl, s.run.stop_when_cut_through);
@@ -249,7 +249,7 @@ constexpr std::uint32_t kFormat = 10;  // 2: exact energy sums; 3: cut-through a
                                        // 8: pieces without whole-grid node tables;
                                        // 9: fracture.criterion, epsilon, mesh.perturb keys
                                        // and the nodes' split times; 10: fracture.beta,
-                                       // mesh.algorithm and the facet criterion's open faces
+                                       // track_join, mesh.algorithm and the facet criterion's open faces
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

@@ -120,6 +120,10 @@ struct FractureParams {
   /// crack pattern: tracks shorter than this are spurs, not branches [m] (0 = the tracker's
   /// join distance, 4 typical element sizes)
   double min_branch_length = 0;
+  /// crack tracker (docs/crack_fronts.md): a split within this in-plane distance of a tip or
+  /// path belongs to that crack; two arms are a branching once twice this apart [m] (0 = 4
+  /// typical element sizes)
+  double track_join = 0;
 };
 
 /// Continuum damage (SPEC 6, paper section 5). beta1 = 0 switches it off.

@@ -36,7 +36,8 @@ double median_volume(std::vector<double> V0) {
 /// element volume (a band mesh has most of its elements in the band, where cracks run).
 CrackFronts make_fronts(const Scene& scene, double median_V0) {
   const double h = std::cbrt(6.0 * std::sqrt(2.0) * median_V0);
-  CrackFronts f(4.0 * h, 8.0 * h);
+  const double join = scene.fracture.track_join > 0 ? scene.fracture.track_join : 4.0 * h;
+  CrackFronts f(join, 2.0 * join);
   const GeometryParams& g = scene.geometry;
   if (g.notches.empty()) {
     f.add_seed(g.notch_depth, 0.0, 1.0, 0.0);
