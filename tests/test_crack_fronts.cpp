@@ -793,7 +793,8 @@ TEST(Straight, JIntegralOverTheAdvanceBoundsTheEnergyIntoTheLinks) {
       std::filesystem::temp_directory_path() / "brittle_test_j_integral_run";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  Scene scene = load_scene({std::string(BRITTLE_SOURCE_DIR) + "/scenes/glass-branching.ini"},
+  Scene scene = load_scene({std::string(BRITTLE_SOURCE_DIR) + "/scenes/glass-branching.ini",
+                            std::string(BRITTLE_SOURCE_DIR) + "/scenes/glass-nodal.ini"},
                            {"mesh.band_size=0.5e-3", "run.end_time=40e-6", "run.threads=1"});
   scene.output.vtu = false;
   scene.output.frame_interval = 0;

@@ -26,7 +26,7 @@
 #
 # Usage (from anywhere; --out is relative to the current directory):
 #   bash bench/peer/run.sh [0.5e-3|0.25e-3 ...] [--out DIR] [--reuse] [--no-matched-dt]
-#                          [--safety F]
+#                          [--safety F] [--nodal]
 #     sizes        element size = lattice spacing [m], any number of them (default 0.5e-3)
 #     --out DIR    where everything goes (default <repo>/out/peer, git-ignored): DIR/peer.md,
 #                  DIR/h<mm>mm/{brittle,lammps,lammps-matched-dt}/, DIR/h<mm>mm/side_by_side.png
@@ -34,6 +34,8 @@
 #     --no-matched-dt   skip the LAMMPS run at brittle's time step
 #     --safety F   LAMMPS's own step as a fraction of its stable step (default 0.8; the crack's
 #                  start, speed and branching converge from 0.4 down, docs/peer.md)
+#     --nodal      brittle with the paper's nodal rule (scenes/glass-nodal.ini over the scene:
+#                  how docs/peer.md's table was made); default: the scene as shipped (facet)
 # Environment: BRITTLE (default build/release/app/brittle), LMP (default lmp),
 #   PYTHON (default /usr/bin/python3: Debian's, with numpy and matplotlib).
 # Cost on the 2-core AMD EPYC VM of docs/peer.md, one thread: 0.5 mm about 1.5 min in all
@@ -53,6 +55,7 @@ REUSE=0
 MATCHED=1
 SAFETY=0.8
 SIZES=()
+OVERLAY=()
 
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -62,6 +65,7 @@ while [ $# -gt 0 ]; do
     --no-matched-dt) MATCHED=0; shift ;;
     --safety) SAFETY="$2"; shift 2 ;;
     --safety=*) SAFETY="${1#--safety=}"; shift ;;
+    --nodal) OVERLAY=("$ROOT/scenes/glass-nodal.ini"); shift ;;
     -h|--help) sed -n '2,/^$/p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) SIZES+=("$1"); shift ;;
@@ -118,7 +122,7 @@ for h in "${SIZES[@]}"; do
     echo "  reuse $b"
   else
     rm -rf "$b"; mkdir -p "$b"
-    cmd=("$BRITTLE" run "$SCENE" --set "mesh.size=$h" --set mesh.band=0 --set mesh.layers=1
+    cmd=("$BRITTLE" run "$SCENE" "${OVERLAY[@]}" --set "mesh.size=$h" --set mesh.band=0 --set mesh.layers=1
          --set run.threads=1 --set run.end_time=80e-6 --set run.stop_when_cut_through=false
          --set output.frame_times=80e-6 --out "$b/run")
     echo "  ${cmd[*]}" | sed "s|$ROOT/||g"
