@@ -301,11 +301,11 @@ std::vector<SplitRecord> Fracture::split_facets(Grid& grid, const ElementData& e
   });  // by node, then the largest ratio first
   std::vector<SplitRecord> records;
   std::vector<int> group;
-  const std::uint8_t* fixed = grid.fixed();
   for (std::size_t i = 0; i < touched.size(); ++i) {
     if (i > 0 && touched[i].first == touched[i - 1].first) continue;
     const vtkIdType K = touched[i].first;
-    if (fixed[K] || !may_break(grid, K)) continue;
+    // grid.fixed() is read afresh: each split grows the grid's arrays, which may move them.
+    if (grid.fixed()[K] || !may_break(grid, K)) continue;
     const int n = facet_->groups(forces, face_open_, K, group);
     if (n < 2) continue;
     std::vector<std::vector<vtkIdType>> of_group(n);
