@@ -17,6 +17,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <SMP/Common/vtkSMPToolsAPI.h>
 #include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -75,6 +76,11 @@ std::string read_isolated(const std::string& what, const std::string& reader,
     // says what happened in one line. A fault ends the child with its signal.
     if (const int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, 2), ::close(null);
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) ::signal(sig, SIG_DFL);
+    // The child has one thread: the parent's thread pools (TBB's workers behind vtkSMPTools,
+    // OpenMP's, Mesa's) did not come with it, and a task handed to a pool whose threads are
+    // gone waits for ever. The reader runs its SMP loops on this thread instead (through
+    // vtkSMPToolsAPI: VTK 9.1's vtkSMPTools.h does not compile as C++20 under GCC 12).
+    vtk::detail::smp::vtkSMPToolsAPI::GetInstance().SetBackend("Sequential");
 #ifdef BRITTLE_ASAN
     // A sanitizer report in the child is the child's failure, not the parent's (libFuzzer
     // registers a death callback that would record the input as a crash of the fuzzer).
