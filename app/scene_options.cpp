@@ -397,6 +397,14 @@ const std::vector<Key>& scene_keys() {
                       "the facet criterion's shear weight: a face's effective traction is "
                       "sqrt(<t_n>^2 + t_s^2 / beta^2); 0 = the normal traction alone",
                       ">= 0", non_negative));
+    k.push_back(word("fracture.facet_link", &Scene::fracture, &FP::facet_link,
+                     "the facet criterion's link strength f0 (docs/fracture-criteria.md)",
+                     "traction (Akantu's extrinsic insertion: the effective traction each crack "
+                     "face reached when it opened, times a third of its area; delta_c = 2 A_c "
+                     "gamma / f0) | imbalance (the paper's (2.6): the force that holds the "
+                     "daughters together at the split)",
+                     {{"traction", FP::FacetLink::traction},
+                      {"imbalance", FP::FacetLink::imbalance}}));
     k.push_back(field("fracture.alpha", &Scene::fracture, &FP::alpha, "s",
                       "rate parameter of the degradation law (4.4); 0 = rate-independent (3.5), "
                       "paper RD: 9.35e-8",

@@ -67,15 +67,14 @@ TEST(Benchmarks, KalthoffCrackLeavesTheNotchAtSeventyDegrees) {
   EXPECT_LT(r.summary.max_relative_imbalance, 0.01);
 }
 
-// The glass plate as shipped (facet criterion, docs/fracture-criteria.md) forks into a Y:
-// issue 37's targets, from the tracker (pattern.json). Measured (13 s on one thread): the notch
-// tip runs from 11 us and forks at (70.8, 0.3) mm at 38.3 us, 70.7 degrees between the arms;
-// the upper arm (31.2 mm) cuts through at x = 100 mm at 76.7 us, the lower one (19.8 mm) stops
-// at (84.6, -13.5) mm at 66 us, short of the issue's x >= 90 mm; imbalance 8e-4. The phase-
-// field references fork at about 65 mm, LAMMPS peridynamics at 69 mm (docs/benchmarks.md).
-// The fork is likely, not certain: 4 of 8 runs that differ only in their frame times fork
-// (docs/fracture-criteria.md), so the run keeps the scene's frame times. The paper's nodal rule
-// makes no Y here.
+// The glass plate as shipped (facet criterion, links at the traction their faces opened at,
+// docs/fracture-criteria.md) forks into a Y: issue 37's targets, from the tracker
+// (pattern.json). Measured (24 s on one thread): the fork at (76.2, -0.8) mm at 45.0 us, 63
+// degrees between the arms; both arms (25.9 mm each) reach the far edge, (99.4, 9.4) mm at
+// 77 us and (100, -9.7) mm at 78 us; imbalance 8e-4. The phase-field references fork at about
+// 65 mm, LAMMPS peridynamics at 69 mm (docs/benchmarks.md). The fork is likely, not certain: 4
+// of 8 runs that differ only in their frame times fork (docs/fracture-criteria.md), so the run
+// keeps the scene's frame times. The paper's nodal rule makes no Y here.
 TEST(Benchmarks, GlassPlateBranchesIntoAY) {
   const BenchmarkRun r = run_scene("glass-branching.ini", true);
   ASSERT_EQ(r.summary.status, "completed");
@@ -97,7 +96,6 @@ TEST(Benchmarks, GlassPlateBranchesIntoAY) {
   EXPECT_LE(b.x, 90e-3);
   EXPECT_GE(b.angle_deg, 20.0);
   EXPECT_LE(b.angle_deg, 90.0);
-  double reach = 0;  // the farther arm's x
   for (int arm : {b.child_a, b.child_b}) {
     const TipTrack& t = f.tips()[arm];
     ASSERT_FALSE(t.path.empty());
@@ -105,8 +103,6 @@ TEST(Benchmarks, GlassPlateBranchesIntoAY) {
     std::cout << "  arm " << arm << ": " << t.arc.back() * 1e3 << " mm, head (" << head.x * 1e3
               << ", " << head.y * 1e3 << ") mm at " << head.t * 1e6 << " us\n";
     EXPECT_GE(t.arc.back(), 10e-3) << "arm " << arm;
-    EXPECT_GE(head.x, 80e-3) << "arm " << arm;  // both well past the fork
-    reach = std::max(reach, head.x);
+    EXPECT_GE(head.x, 90e-3) << "arm " << arm;  // both to x >= 90 mm by the end, 80 us
   }
-  EXPECT_GE(reach, 90e-3);
 }

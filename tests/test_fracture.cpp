@@ -665,6 +665,51 @@ TEST(Branching, EnergyCriterionCrackInAPrestressedPlateRunsNoFasterThanRayleigh)
   EXPECT_GE(run.summary.crack_speed.speed, 0.8 * c_R);
 }
 
+/// The faces between node K's upper and lower cells (y of the centroid), as facet
+/// candidates of ratio 1.5, and K's star in node-table order.
+struct MidplaneFaces {
+  vtkIdType K = -1;
+  std::vector<vtkIdType> star;
+  std::vector<SplitCandidate> faces;
+  bool above(const Grid& g, vtkIdType e) const {
+    double y = 0;
+    for (int j = 0; j < 4; ++j) y += g.X()[3 * g.cells()[4 * e + j] + 1];
+    return y > 0;
+  }
+};
+
+MidplaneFaces midplane_faces(Simulation& sim) {
+  MidplaneFaces m;
+  const Grid& g = sim.grid();
+  m.K = node_on_midplane(g, 10e-3);
+  if (m.K < 0) return m;
+  const ForceAssembler& forces = sim.forces();
+  std::vector<vtkIdType> up;
+  for (vtkIdType k = forces.node_start()[m.K]; k < forces.node_end()[m.K]; ++k)
+    m.star.push_back(forces.node_entries()[k] / 4);
+  for (vtkIdType e : m.star)
+    if (m.above(g, e)) up.push_back(e);
+  for (vtkIdType e : up)
+    for (int j = 0; j < 4; ++j) {
+      vtkIdType n = -1;  // the cell across face j: the other cell with its three corners
+      for (vtkIdType c : m.star) {
+        if (c == e || m.above(g, c)) continue;
+        int shared = 0;
+        for (int k = 0; k < 4; ++k)
+          if (k != j)
+            shared += std::count(g.cells() + 4 * c, g.cells() + 4 * c + 4, g.cells()[4 * e + k]);
+        if (shared == 3) n = c;
+      }
+      if (n < 0) continue;
+      SplitCandidate c;
+      c.node = m.K;
+      c.sigma1 = 1.5;
+      c.face = 4 * e + j;
+      m.faces.push_back(c);
+    }
+  return m;
+}
+
 // The facet criterion's topology (docs/fracture-criteria.md): faces between K's cells above
 // y = 0 and those below, opened, cut K's cells into exactly those two groups; split() then
 // gives the upper or the lower group a new node and conserves mass and momentum, while the
@@ -675,58 +720,59 @@ TEST(FacetCriterion, OpenFacesCutANodeIntoTheGroupsTheySeparate) {
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
   Simulation sim(s, *mesh);
   Grid& g = sim.grid();
-  const vtkIdType K = node_on_midplane(g, 10e-3);
-  ASSERT_GE(K, 0);
-  const auto above = [&](vtkIdType e) {
-    double y = 0;
-    for (int j = 0; j < 4; ++j) y += g.X()[3 * g.cells()[4 * e + j] + 1];
-    return y > 0;
-  };
-  const ForceAssembler& forces = sim.forces();
-  std::vector<vtkIdType> star, up;
-  for (vtkIdType k = forces.node_start()[K]; k < forces.node_end()[K]; ++k)
-    star.push_back(forces.node_entries()[k] / 4);
-  for (vtkIdType e : star)
-    if (above(e)) up.push_back(e);
-  ASSERT_GT(up.size(), 0u);
-  ASSERT_LT(up.size(), star.size());
-  // The faces of K's upper cells whose cell across is one of K's lower cells.
-  std::vector<SplitCandidate> faces;
-  for (vtkIdType e : up)
-    for (int j = 0; j < 4; ++j) {
-      vtkIdType n = -1;  // the cell across face j: the other cell with its three corners
-      for (vtkIdType m : star) {
-        if (m == e || above(m)) continue;
-        int shared = 0;
-        for (int c = 0; c < 4; ++c)
-          if (c != j)
-            shared += std::count(g.cells() + 4 * m, g.cells() + 4 * m + 4, g.cells()[4 * e + c]);
-        if (shared == 3) n = m;
-      }
-      if (n < 0) continue;
-      SplitCandidate c;
-      c.node = K;
-      c.sigma1 = 1.5;
-      c.face = 4 * e + j;
-      faces.push_back(c);
-    }
-  ASSERT_GE(faces.size(), 2u);
+  const MidplaneFaces m = midplane_faces(sim);
+  ASSERT_GE(m.K, 0);
+  ASSERT_GE(m.faces.size(), 2u);
   const double mass = total_mass(g);
   const Vec3 p = total_momentum(g);
-  const auto records = sim.fracture().split(g, sim.elements(), sim.forces(), faces);
+  const auto records = sim.fracture().split(g, sim.elements(), sim.forces(), m.faces);
   ASSERT_EQ(records.size(), 1u);
   const SplitRecord& r = records[0];
-  EXPECT_EQ(r.a, K);
+  EXPECT_EQ(r.a, m.K);
   // The group of K's first cell keeps K; the other takes the new node.
   std::vector<vtkIdType> expected;
-  for (vtkIdType e : star)
-    if (above(e) != above(star.front())) expected.push_back(e);
+  for (vtkIdType e : m.star)
+    if (m.above(g, e) != m.above(g, m.star.front())) expected.push_back(e);
   EXPECT_EQ(r.b_cells, expected);
   EXPECT_NEAR(total_mass(g), mass, 1e-14 * mass);
   EXPECT_LT((total_momentum(g) - p).norm(), 1e-14 * mass);
   EXPECT_GT(r.A_c, 0.0);
   // Opened again (no new faces): nothing more to split.
   EXPECT_TRUE(sim.fracture().split(g, sim.elements(), sim.forces(), {}).empty());
+}
+
+// fracture.facet_link: with `traction` (the default, Akantu's insertion) the new link starts
+// at the traction its faces opened at (here 1.5 sigma_c, the candidates' ratio, on a third of
+// each face's area: f0 = 1.5 sigma_c A_c / 2) and still dissipates A_c gamma (f0 delta_c = 2
+// A_c gamma, (3.8)); with `imbalance` at the paper's (2.6), which differs.
+TEST(FacetCriterion, LinkStartsAtTheTractionItsFacesOpenedAt) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 1e-6, 1e-3);
+  s.fracture.criterion = FractureParams::Criterion::facet;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  std::vector<double> f0;
+  for (auto law : {FractureParams::FacetLink::traction, FractureParams::FacetLink::imbalance}) {
+    s.fracture.facet_link = law;
+    Simulation sim(s, *mesh);
+    sim.run({});  // (a step: the plate's own forces, so that (2.6) is not zero)
+    const MidplaneFaces m = midplane_faces(sim);
+    ASSERT_GE(m.faces.size(), 2u);
+    const auto records = sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), m.faces);
+    ASSERT_EQ(records.size(), 1u);
+    const SplitRecord& r = records[0];
+    ASSERT_GT(r.A_c, 0.0);
+    const CohesiveLink* link = nullptr;
+    for (const CohesiveLink& l : sim.links().links())
+      if (l.a == r.a && l.b == r.b) link = &l;
+    ASSERT_NE(link, nullptr);
+    EXPECT_NEAR(link->f0, r.f0.norm(), 1e-12 * link->f0);
+    EXPECT_NEAR(link->f0 * link->delta_c, 2.0 * link->A_c * s.material.gamma,
+                1e-12 * link->f0 * link->delta_c);
+    if (law == FractureParams::FacetLink::traction) {
+      EXPECT_NEAR(link->f0, 1.5 * s.material.sigma_c * 0.5 * r.A_c, 1e-12 * link->f0);
+    }
+    f0.push_back(link->f0);
+  }
+  EXPECT_GT(std::abs(f0[0] - f0[1]), 1e-3 * f0[0]);
 }
 
 // The facet criterion keeps a run independent of the thread count (bitwise), with damage and

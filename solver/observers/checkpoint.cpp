@@ -115,7 +115,7 @@ void CohesiveLinks::state(Ar& ar) {
 template <class Ar>
 void Fracture::state(Ar& ar) {
   io_all(ar, plane_nodes_, root_, split_time_, hot_, hot_nodes_, splits_, crack_area_, tip_x_,
-         tip_y_, face_open_);
+         tip_y_, face_open_, face_traction_);
 }
 
 template <class Ar>
@@ -227,7 +227,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("sensor", s.sensors);
   FractureParams& f = s.fracture;
   section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
-          f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join);
+          f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join, f.facet_link);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
   section("run", s.run.cfl, s.run.stop_when_cut_through);
@@ -241,7 +241,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 10;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 11;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                        // 4: Weibull strength keys; 5: no element forces (the
                                        // next step recomputes them before any use); 6: blocks
                                        // with h_e for the two viscosities, no viscous powers;
@@ -249,7 +249,8 @@ constexpr std::uint32_t kFormat = 10;  // 2: exact energy sums; 3: cut-through a
                                        // 8: pieces without whole-grid node tables;
                                        // 9: fracture.criterion, epsilon, mesh.perturb keys
                                        // and the nodes' split times; 10: fracture.beta,
-                                       // track_join, mesh.algorithm and the facet criterion's open faces
+                                       // track_join, mesh.algorithm and the facet criterion's open faces;
+                                       // 11: fracture.facet_link and the faces' opening tractions
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

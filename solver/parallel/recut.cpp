@@ -172,9 +172,12 @@ void Fracture::recut(const Fracture& src, const Recut& r) {
   node_strength_.clear();  // drawn again for the new node ids
   if (!src.face_open_.empty()) {  // (facet criterion) faces by their cell and corner
     face_open_.assign(4 * r.cell_from.size(), 0);
+    face_traction_.assign(4 * r.cell_from.size(), 0.0);
     for (std::size_t e = 0; e < r.cell_from.size(); ++e)
-      if (const vtkIdType s = r.cell_from[e]; s >= 0)
+      if (const vtkIdType s = r.cell_from[e]; s >= 0) {
         std::copy_n(src.face_open_.begin() + 4 * s, 4, face_open_.begin() + 4 * e);
+        std::copy_n(src.face_traction_.begin() + 4 * s, 4, face_traction_.begin() + 4 * e);
+      }
   }
   if (facet_) facet_->reset();  // (cells renumbered)
   splits_ = src.splits_;   // every rank counts every split (count_split)

@@ -36,6 +36,12 @@ CohesiveLink make_link(vtkIdType a, vtkIdType b, const Vec3& f0, std::vector<Cra
   return l;
 }
 
+void set_link_strength(CohesiveLink& l, double f0, const CohesiveLaw& law) {
+  l.f0 = f0;
+  l.f = f0;
+  l.delta_c = critical_opening(l.A_c, f0, law.gamma);
+}
+
 void advance_link(CohesiveLink& l, double delta, double dt, const CohesiveLaw& law) {
   const double f_old = l.f, V_old = l.stored(), delta_old = l.delta;
   const double delta_max = std::max(l.delta_max, delta);

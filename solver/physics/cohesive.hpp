@@ -53,6 +53,10 @@ struct CohesiveLink {
 CohesiveLink make_link(vtkIdType a, vtkIdType b, const Vec3& f0, std::vector<CrackFace> faces,
                        const CohesiveLaw& law);
 
+/// A new link's force at zero opening set to f0 (its direction e0 kept): f = f0 and
+/// delta_c = 2 A_c gamma / f0 (3.8), so the link still dissipates A_c gamma.
+void set_link_strength(CohesiveLink& l, double f0, const CohesiveLaw& law);
+
 /// Moves the link to opening `delta` over a step dt: delta_max, omega by (3.5) when
 /// alpha = 0, else (4.4) with epsilondot = (change of delta_max)/(dt delta_c); f by (2.8);
 /// and adds the dissipation W_c - change of V_c (3.2), the work taken with the trapezoidal

@@ -50,6 +50,14 @@ class FacetCriterion {
   vtkIdType across(vtkIdType face) const { return across_[face]; }
   /// The face of the other cell that is the same face as `face`.
   vtkIdType twin(vtkIdType face) const { return twin_[face]; }
+  /// An interior face's strength.
+  double strength(vtkIdType face) const { return strength_[face]; }
+  /// The face of cell a that cell b lies across (-1 if they share none).
+  vtkIdType face_between(vtkIdType a, vtkIdType b) const {
+    for (int j = 0; j < 4; ++j)
+      if (across_[4 * a + j] == b) return 4 * a + j;
+    return -1;
+  }
 
   /// K's cells (its node-table entries, in table order) in groups joined through closed faces
   /// that hold K: group[i] of entry i, groups numbered in order of their first entry. Returns

@@ -60,6 +60,8 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
     facet_ = std::make_unique<FacetCriterion>(scene.fracture.beta,
                                               [this](const double X[3]) { return strength_at(X); });
     face_open_.assign(4 * static_cast<std::size_t>(grid.num_cells()), 0);
+    face_traction_.assign(4 * static_cast<std::size_t>(grid.num_cells()), 0.0);
+    traction_link_ = scene.fracture.facet_link == FractureParams::FacetLink::traction;
     facet_->weakest(grid, root_);  // (builds the face tables)
   }
   if (mode_ != FractureParams::Mode::straight) return;
@@ -292,6 +294,7 @@ std::vector<SplitRecord> Fracture::split_facets(Grid& grid, const ElementData& e
   for (const SplitCandidate& c : candidates) {
     const vtkIdType f = c.face, g = facet_->twin(f);
     face_open_[f] = face_open_[g] = 1;
+    face_traction_[f] = face_traction_[g] = c.sigma1 * facet_->strength(f);  // (ratio x strength)
     for (vtkIdType side : {f, g})
       for (int k = 0; k < 4; ++k)
         if (k != side % 4) touched.emplace_back(cells[side / 4 * 4 + k], c.sigma1);
@@ -398,6 +401,18 @@ void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembl
   // f0 = (m_A F_B - m_B F_A) / (m_A + m_B)   (2.6)
   r.f0 = (r.m_a * r.F_b - r.m_b * r.F_a) / (r.m_a + r.m_b);
   CohesiveLink link = make_link(r.a, r.b, r.f0, std::move(crack), links_.law());
+  if (traction_link_ && link.f0 > 0) {
+    // Akantu's extrinsic insertion: the link starts at the traction its faces opened at,
+    // f0 = sum of t_open A / 3 over the crack faces (a CrackFace's area is 2 A / 3, both
+    // sides), in the direction of (2.6); delta_c (3.8) keeps the dissipation A_c gamma.
+    double f0 = 0;
+    for (const CrackFace& c : link.faces) {
+      const vtkIdType f = facet_->face_between(c.cell_a, c.cell_b);
+      f0 += (f >= 0 ? face_traction_[f] : sigma_c_) * 0.5 * c.area;
+    }
+    set_link_strength(link, f0, links_.law());
+    r.f0 = f0 * link.e0;
+  }
   r.A_c = link.A_c;
   r.sigma1 = sigma1;
   if (link.f0 > 0) links_.add(std::move(link), grid.num_points());

@@ -130,6 +130,8 @@ class Fracture {
   mutable std::unique_ptr<EnergyCriterion> energy_;  // fracture.criterion = energy
   mutable std::unique_ptr<FacetCriterion> facet_;    // fracture.criterion = facet
   std::vector<std::uint8_t> face_open_;  // facet: 4 per cell, face 4 e + j open (both sides)
+  std::vector<double> face_traction_;    // facet: the effective traction it opened at [Pa]
+  bool traction_link_ = false;           // fracture.facet_link = traction
   /// sigma_c, or the Weibull sample of the point X (strength()).
   double strength_at(const double X[3]) const;
   double weibull_m_ = 0, weibull_scale_ = 0;

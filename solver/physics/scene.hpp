@@ -110,6 +110,11 @@ struct FractureParams {
   double epsilon = 0.0;  ///< the energy criterion's length [m]; 0 = 3 x the median element size
   /// The facet criterion's shear weight: t_eff = sqrt(<t_n>^2 + t_s^2 / beta^2); 0 = t_n alone.
   double beta = 0.0;
+  /// The facet criterion's link strength: traction, Akantu's extrinsic insertion (f0 = the
+  /// effective traction each crack face reached when it opened, times its share of the face's
+  /// area); imbalance, the paper's (2.6) (the force that holds the daughters together).
+  enum class FacetLink { traction, imbalance };
+  FacetLink facet_link = FacetLink::traction;
   double alpha = 0.0;              ///< rate parameter of (4.4) [s]; 0 = rate-independent (3.5)
   double n = 0.2;                  ///< exponent of (4.4)
   double speed_window_start = 10e-6;  ///< steady crack speed fitted from this time [s]
