@@ -375,6 +375,19 @@ TEST_F(Render, FigureCommandWritesTheFourPanels) {
   ASSERT_EQ(run(command + " --reuse", dir / "second.log"), 0) << read(dir / "second.log");
   EXPECT_NE(read(dir / "second.log").find("reusing"), std::string::npos);
   EXPECT_EQ(read(dir / "second.log").find("fracture at"), std::string::npos);
+  // With the facet criterion (branching mode only): the branching runs and Figs. 9-10.
+  const std::string facet = exe + " figure " + scenes + "cm.ini " + scenes + "damage.ini" +
+                            " --set mesh.size=2e-3 --set render.width=200 --set "
+                            "render.height=150 --set render.times=1e-6,4e-6 --set "
+                            "fracture.criterion=facet --runs '" + (dir / "facet-runs").string() +
+                            "' --out '" + (dir / "facet-figs").string() + "'";
+  ASSERT_EQ(run(facet, dir / "facet.log"), 0) << read(dir / "facet.log");
+  EXPECT_NE(read(dir / "facet.log").find("fig07.png and fig08.png skipped"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "facet-runs" / "straight-90"));
+  EXPECT_TRUE(fs::exists(dir / "facet-runs" / "branching-90" / "run.pvd"));
+  EXPECT_FALSE(fs::exists(dir / "facet-figs" / "fig07.png"));
+  EXPECT_TRUE(fs::exists(dir / "facet-figs" / "fig09.png"));
+  EXPECT_TRUE(fs::exists(dir / "facet-figs" / "fig10.png"));
 }
 
 TEST_F(Render, RenderCommandErrors) {
