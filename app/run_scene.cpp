@@ -136,6 +136,19 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
                 scene.run.end_time, frames, rows, scene.output.directory.c_str(), memory / 1e9,
                 disk / 1e9, wall);
   out << text;
+  // Where the step comes from (issue 38): the few elements that set it, and where they are.
+  const StepDistribution& d = sim.step_distribution();
+  std::snprintf(text, sizeof text,
+                "  dt_e      smallest %.4g s, 1st percentile %.4g s (%.2f x), median %.4g s "
+                "(%.2f x); %lld element%s within 10 %% of the smallest\n"
+                "            smallest: element %lld at (%.2f, %.2f, %.2f) mm, altitude %.3g mm "
+                "(%.2f x the median %.3g mm), damping ratio %.3g\n",
+                d.smallest, d.p1, d.p1 / d.smallest, d.median, d.median / d.smallest,
+                static_cast<long long>(d.within_10_percent), d.within_10_percent == 1 ? "" : "s",
+                static_cast<long long>(d.element), 1e3 * d.centroid[0], 1e3 * d.centroid[1],
+                1e3 * d.centroid[2], 1e3 * d.altitude, d.altitude / d.median_altitude,
+                1e3 * d.median_altitude, d.xi);
+  out << text;
   if (ranks <= 1) return;
   // Over N ranks: the peak memory of a rank, fitted to 1-8 ranks on 0.1-3.1 M tets
   // (docs/parallel.md, "Scaling"): 125 MB + 589 B per tet of its part (own and ghost cells) +

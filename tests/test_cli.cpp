@@ -845,7 +845,9 @@ TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
   const Result r = run_brittle(dir, {"run", file, "--dry-run", "--out", out.string()});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   for (const char* part : {"14676 tets", "5102 nodes", "steps to 2e-06 s", "frames", "energy rows",
-                           "memory", "disk", "wall"})
+                           "memory", "disk", "wall", "dt_e      smallest", "1st percentile",
+                           "median", "within 10 % of the smallest", "smallest: element",
+                           "damping ratio"})
     EXPECT_TRUE(contains(r.out, part)) << "'" << part << "' not in " << r.out;
   EXPECT_FALSE(fs::exists(out)) << "a dry run wrote " << out;
   // The guards apply to a dry run too.

@@ -293,6 +293,44 @@ Critical critical_element(const Simulation& sim) {
   return c;
 }
 
+// Where the step comes from (issue 38): on a plate with one planted sliver (the element that
+// set the step, its apex pressed to 30 % of its altitude before the run), the distribution
+// names that element as the smallest, the global step is its step, and the 1st percentile and
+// the median are the plate's.
+TEST(StableStep, DistributionFindsAPlantedSliver) {
+  Scene s = plate_scene(0.5, 1e-6);
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const Critical c = critical_element(sim);
+  const StepDistribution before = sim.step_distribution();
+  EXPECT_EQ(before.elements, sim.grid().num_cells());
+  EXPECT_EQ(before.smallest, sim.dt());
+  EXPECT_EQ(before.element, c.element);
+  EXPECT_LE(before.smallest, before.p1);
+  EXPECT_LE(before.p1, before.median);
+  EXPECT_GE(before.within_10_percent, 1);
+  ASSERT_GE(c.apex, 0);
+  // Plant the sliver: the apex of the critical element pressed to 30 % of its altitude.
+  Grid& g = sim.grid();
+  const Vec3 apex(g.x() + 3 * c.apex), pressed = c.foot + 0.3 * (apex - c.foot);
+  for (int k = 0; k < 3; ++k) g.x()[3 * c.apex + k] = pressed[k];
+  const StepDistribution d = step_distribution(g, sim.elements(), sim.constants(), s.run.cfl);
+  EXPECT_EQ(d.element, c.element);
+  EXPECT_EQ(d.smallest, stable_time_step(g, sim.elements(), sim.constants(), s.run.cfl).dt);
+  EXPECT_NEAR(d.altitude, 0.3 * before.altitude, 1e-6 * before.altitude);
+  EXPECT_LT(d.smallest, 0.5 * before.smallest);
+  EXPECT_EQ(d.within_10_percent, 1);  // the sliver alone sets the step
+  EXPECT_NEAR(d.median, before.median, 1e-3 * before.median);
+  EXPECT_NEAR(d.p1, before.p1, 2e-2 * before.p1);
+  EXPECT_NEAR(d.median_altitude, before.median_altitude, 1e-3 * before.median_altitude);
+  const vtkIdType* n = g.cells() + 4 * d.element;
+  for (int i = 0; i < 3; ++i) {
+    double mean = 0;
+    for (int k = 0; k < 4; ++k) mean += 0.25 * g.x()[3 * n[k] + i];
+    EXPECT_NEAR(d.centroid[i], mean, 1e-15);
+  }
+}
+
 // As elements distort, the stable step is re-checked: an element pressed to 60 % of its
 // altitude lowers dt (with one warning naming it); pressed to 1 % the run stops with an error
 // naming it instead of stepping on unstably.

@@ -613,6 +613,21 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["sigma_over_sigmac"] = measured("sigma_over_sigmac", s.sigma / sim.scene().material.sigma_c);
   j["dt"] = measured("dt", s.dt);
   j["final_dt"] = measured("final_dt", s.final_dt);
+  // Where the step comes from (issue 38; docs/performance.md): null in a decomposed run.
+  if (const StepDistribution& d = sim.step_distribution(); d.elements > 0) {
+    j["step_distribution"] = {
+        {"smallest", number(d.smallest)},
+        {"p1", number(d.p1)},
+        {"median", number(d.median)},
+        {"element", d.element},
+        {"centroid", {number(d.centroid[0]), number(d.centroid[1]), number(d.centroid[2])}},
+        {"altitude", number(d.altitude)},
+        {"damping_ratio", number(d.xi)},
+        {"median_altitude", number(d.median_altitude)},
+        {"within_10_percent", d.within_10_percent}};
+  } else {
+    j["step_distribution"] = nullptr;
+  }
   j["dt_reductions"] = s.dt_reductions;
   j["substep_cap_steps"] = s.substep_cap_steps;
   j["end_time"] = measured("end_time", s.end_time);

@@ -13,6 +13,30 @@
 
 namespace brittle {
 
+namespace {
+
+/// Element e's stable step at its current shape: dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) -
+/// xi_e) (SPEC 4; docs/model.md, "Stable step").
+inline StableStep element_step(const double* x, const vtkIdType* cells, const double* V0,
+                               const ElementData& el, const ElasticConstants& c, double cfl,
+                               vtkIdType e) {
+  const vtkIdType* n = cells + 4 * e;
+  const Vec3 p0(x + 3 * n[0]);
+  const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0, d = Vec3(x + 3 * n[3]) - p0;
+  const double V = a.dot(b.cross(d)) / 6.0;
+  // The smallest altitude is 3V over the largest face area.
+  const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(), d.cross(a).norm(),
+                                      (b - a).cross(d - a).norm()});
+  const double altitude = V > 0 ? 3.0 * V / face : 0.0;
+  // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
+  const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
+  const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
+  const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+  return StableStep{dt, e, altitude, xi};
+}
+
+}  // namespace
+
 StableStep stable_time_step(const Grid& grid, const ElementData& el, const ElasticConstants& c,
                             double cfl) {
   // The first element with the smallest step, or the first whose step is NaN (to report it):
@@ -31,20 +55,7 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
     StableStep& mine = found[omp_get_thread_num()];
 #pragma omp for schedule(static)
     for (vtkIdType e = 0; e < ne; ++e) {
-      const vtkIdType* n = cells + 4 * e;
-      const Vec3 p0(x + 3 * n[0]);
-      const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0,
-                 d = Vec3(x + 3 * n[3]) - p0;
-      const double V = a.dot(b.cross(d)) / 6.0;
-      // The smallest altitude is 3V over the largest face area.
-      const double face = 0.5 * std::max({a.cross(b).norm(), b.cross(d).norm(),
-                                          d.cross(a).norm(), (b - a).cross(d - a).norm()});
-      const double altitude = V > 0 ? 3.0 * V / face : 0.0;
-      // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
-      const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
-      const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
-      const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
-      const StableStep here{dt, e, altitude, xi};
+      const StableStep here = element_step(x, cells, V0, el, c, cfl, e);
       if (before(here, mine)) mine = here;
     }
   }
@@ -52,6 +63,42 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
   for (const StableStep& mine : found)
     if (before(mine, best)) best = mine;
   return best;
+}
+
+StepDistribution step_distribution(const Grid& grid, const ElementData& el,
+                                   const ElasticConstants& c, double cfl) {
+  StepDistribution d;
+  const vtkIdType ne = grid.num_cells();
+  if (ne == 0) return d;
+  const double *x = grid.x(), *V0 = el.V0.data();
+  const vtkIdType* cells = grid.cells();
+  std::vector<double> dt(ne), h(ne);
+#pragma omp parallel for schedule(static)
+  for (vtkIdType e = 0; e < ne; ++e) {
+    const StableStep s = element_step(x, cells, V0, el, c, cfl, e);
+    dt[e] = s.dt;
+    h[e] = s.altitude;
+  }
+  const StableStep worst = stable_time_step(grid, el, c, cfl);
+  d.elements = ne;
+  d.smallest = worst.dt;
+  d.element = worst.element;
+  d.altitude = worst.altitude;
+  d.xi = worst.xi;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) d.centroid[i] += 0.25 * x[3 * cells[4 * worst.element + k] + i];
+  d.within_10_percent = std::count_if(dt.begin(), dt.end(),
+                                      [&](double v) { return v <= 1.1 * worst.dt; });
+  // Order statistics (the value at rank floor(q (n - 1))): the same on any thread count.
+  const auto at = [](std::vector<double>& v, double q) {
+    const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * double(v.size() - 1));
+    std::nth_element(v.begin(), k, v.end());
+    return *k;
+  };
+  d.p1 = at(dt, 0.01);
+  d.median = at(dt, 0.5);
+  d.median_altitude = at(h, 0.5);
+  return d;
 }
 
 void Integrator::kick(const double* force, double tau, double t_force, double t_velocity) {

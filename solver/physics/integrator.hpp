@@ -38,6 +38,25 @@ struct StableStep {
 StableStep stable_time_step(const Grid& grid, const ElementData& elements,
                             const ElasticConstants& c, double cfl);
 
+/// Where the step comes from (issue 38): the distribution of the elements' stable steps
+/// dt_e (as stable_time_step, cfl included) over the grid at its current shape. `brittle run
+/// --dry-run` prints it, summary.json has it as "step_distribution" (docs/performance.md).
+struct StepDistribution {
+  vtkIdType elements = 0;        ///< 0: not measured (a decomposed run's part)
+  double smallest = 0;           ///< the global step's source: min dt_e [s]
+  double p1 = 0, median = 0;     ///< the 1st percentile and the median of dt_e [s]
+  vtkIdType element = -1;        ///< the element with the smallest dt_e
+  double centroid[3] = {0, 0, 0};  ///< its centroid [m]
+  double altitude = 0, xi = 0;   ///< its smallest altitude [m] and damping ratio
+  double median_altitude = 0;    ///< the median of the elements' smallest altitudes [m]
+  vtkIdType within_10_percent = 0;  ///< elements whose dt_e is within 10 % of the smallest
+};
+
+/// The distribution of dt_e over the grid: one pass and a copy of the steps (not for the step
+/// loop). Bitwise the same on any thread count.
+StepDistribution step_distribution(const Grid& grid, const ElementData& elements,
+                                   const ElasticConstants& c, double cfl);
+
 /// Wall time of each phase of the step loop, summed over the run [s]: summary.json "phases",
 /// `brittle run --profile` (docs/performance.md).
 struct PhaseTimes {

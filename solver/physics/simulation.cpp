@@ -104,6 +104,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                 ", material.zeta1 = ", scene.material.zeta1, ", material.zeta2 = ",
                 scene.material.zeta2, " (expected viscosities that leave a positive step)");
   dt_ = initial_dt_ = stable.dt;
+  step_distribution_ = brittle::step_distribution(grid_, elements_, constants_, scene.run.cfl);
   // A step count that no run finishes (cfl or a huge viscosity giving dt near 0) is refused
   // here, before any stepping, rather than run "forever".
   const double steps = scene.run.end_time / dt_;
@@ -163,6 +164,7 @@ void Simulation::decompose(Halo& halo) {
   boundary_.keep_nodes(halo.owned());
   fronts_ = make_crack_fronts();
   reset_cracks();
+  step_distribution_ = StepDistribution{};  // (this rank's cells only: not reported)
   StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
   vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
   halo.min_with_id(stable.dt, element);

@@ -233,6 +233,8 @@ class Simulation {
 
   double time() const { return time_; }
   double dt() const { return dt_; }
+  /// The elements' stable steps at the start (elements = 0 in a decomposed run's part).
+  const StepDistribution& step_distribution() const { return step_distribution_; }
   long steps() const { return steps_; }
   double sigma() const { return sigma_; }
   const Scene& scene() const { return scene_; }
@@ -302,6 +304,7 @@ class Simulation {
   ConnectedCracks cracks_{1.0};  // the splits as connected cracks (reset_cracks)
   void reset_cracks();  // empty, seeded at the notch tips, with the fronts' join distance
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
+  StepDistribution step_distribution_;
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   ExactSum damage_dissipated_;  // (the viscous work is kept per element: ForceAssembler)
   double initial_energy_ = 0;
