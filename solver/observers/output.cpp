@@ -25,6 +25,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
@@ -613,17 +614,24 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   j["sigma_over_sigmac"] = measured("sigma_over_sigmac", s.sigma / sim.scene().material.sigma_c);
   j["dt"] = measured("dt", s.dt);
   j["final_dt"] = measured("final_dt", s.final_dt);
-  // Where the step comes from (issue 38; docs/performance.md): null in a decomposed run.
+  // Where the step comes from (issue 38; docs/performance.md), to 9 significant digits: a
+  // decomposed run's part computes a few elements' steps from its own copy of their corners
+  // and volumes, which can differ from the serial run's in the last bit (dt itself does not).
   if (const StepDistribution& d = sim.step_distribution(); d.elements > 0) {
+    const auto nine = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.9g", v);
+      return number(std::strtod(text, nullptr));
+    };
     j["step_distribution"] = {
-        {"smallest", number(d.smallest)},
-        {"p1", number(d.p1)},
-        {"median", number(d.median)},
+        {"smallest", nine(d.smallest)},
+        {"p1", nine(d.p1)},
+        {"median", nine(d.median)},
         {"element", d.element},
-        {"centroid", {number(d.centroid[0]), number(d.centroid[1]), number(d.centroid[2])}},
-        {"altitude", number(d.altitude)},
-        {"damping_ratio", number(d.xi)},
-        {"median_altitude", number(d.median_altitude)},
+        {"centroid", {nine(d.centroid[0]), nine(d.centroid[1]), nine(d.centroid[2])}},
+        {"altitude", nine(d.altitude)},
+        {"damping_ratio", nine(d.xi)},
+        {"median_altitude", nine(d.median_altitude)},
         {"within_10_percent", d.within_10_percent}};
   } else {
     j["step_distribution"] = nullptr;

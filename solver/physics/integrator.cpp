@@ -101,6 +101,51 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& el,
   return d;
 }
 
+StepDistribution step_distribution(const Grid& grid, const ElementData& el,
+                                   const ElasticConstants& c, double cfl, const Halo& halo) {
+  // This rank's owned cells; the order statistics over the ranks by bisection (Halo::select),
+  // the smallest and its element as the serial one (the smaller global id on ties).
+  StepDistribution d;
+  const double *x = grid.x(), *V0 = el.V0.data();
+  const vtkIdType* cells = grid.cells();
+  std::vector<double> dt, h;
+  StableStep worst;
+  worst.dt = std::numeric_limits<double>::infinity();
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    if (!halo.owns_cell(e)) continue;
+    const StableStep s = element_step(x, cells, V0, el, c, cfl, e);
+    dt.push_back(s.dt);
+    h.push_back(s.altitude);
+    if (s.dt < worst.dt) worst = s;
+  }
+  double smallest = worst.dt;
+  vtkIdType id = worst.element >= 0 ? halo.global_cell()[worst.element] : -1;
+  halo.min_with_id(smallest, id);
+  std::vector<double> mine;  // the owner of the smallest sends its centroid, altitude and xi
+  if (worst.element >= 0 && halo.global_cell()[worst.element] == id) {
+    double centroid[3] = {0, 0, 0};
+    for (int k = 0; k < 4; ++k)
+      for (int i = 0; i < 3; ++i) centroid[i] += 0.25 * x[3 * cells[4 * worst.element + k] + i];
+    mine = {centroid[0], centroid[1], centroid[2], worst.altitude, worst.xi};
+  }
+  const std::vector<double> owner = halo.gather_all(mine);
+  d.elements = halo.cells();
+  d.smallest = smallest;
+  d.element = id;
+  if (owner.size() == 5) {
+    for (int i = 0; i < 3; ++i) d.centroid[i] = owner[i];
+    d.altitude = owner[3];
+    d.xi = owner[4];
+  }
+  d.within_10_percent = halo.sum(static_cast<long>(
+      std::count_if(dt.begin(), dt.end(), [&](double v) { return v <= 1.1 * smallest; })));
+  const auto rank = [&](double q) { return static_cast<long>(q * double(d.elements - 1)); };
+  d.p1 = halo.select(dt, rank(0.01));
+  d.median = halo.select(dt, rank(0.5));
+  d.median_altitude = halo.select(h, rank(0.5));
+  return d;
+}
+
 void Integrator::kick(const double* force, double tau, double t_force, double t_velocity) {
   const vtkIdType np = grid_.num_points();
   double* v = grid_.v();

@@ -56,6 +56,10 @@ struct StepDistribution {
 /// loop). Bitwise the same on any thread count.
 StepDistribution step_distribution(const Grid& grid, const ElementData& elements,
                                    const ElasticConstants& c, double cfl);
+/// The same over a decomposed run's ranks (collective; each rank counts its owned cells): the
+/// serial run's numbers.
+StepDistribution step_distribution(const Grid& grid, const ElementData& elements,
+                                   const ElasticConstants& c, double cfl, const Halo& halo);
 
 /// Wall time of each phase of the step loop, summed over the run [s]: summary.json "phases",
 /// `brittle run --profile` (docs/performance.md).

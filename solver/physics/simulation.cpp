@@ -164,7 +164,8 @@ void Simulation::decompose(Halo& halo) {
   boundary_.keep_nodes(halo.owned());
   fronts_ = make_crack_fronts();
   reset_cracks();
-  step_distribution_ = StepDistribution{};  // (this rank's cells only: not reported)
+  step_distribution_ =
+      brittle::step_distribution(grid_, elements_, constants_, scene_.run.cfl, halo);
   StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
   vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
   halo.min_with_id(stable.dt, element);

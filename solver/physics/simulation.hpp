@@ -233,7 +233,7 @@ class Simulation {
 
   double time() const { return time_; }
   double dt() const { return dt_; }
-  /// The elements' stable steps at the start (elements = 0 in a decomposed run's part).
+  /// The elements' stable steps at the start (of the whole grid in a decomposed run).
   const StepDistribution& step_distribution() const { return step_distribution_; }
   long steps() const { return steps_; }
   double sigma() const { return sigma_; }
