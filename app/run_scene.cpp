@@ -112,7 +112,7 @@ RunSummary resume_run(const std::string& directory, const std::vector<std::strin
 
 void dry_run(Scene scene, std::ostream& out, int ranks) {
   auto mesh = make_mesh(scene);
-  const Simulation sim(scene, *mesh);
+  Simulation sim(scene, *mesh);
   const double tets = static_cast<double>(sim.grid().num_cells());
   const double steps = std::ceil(scene.run.end_time / sim.dt() - 0.5);
   const std::size_t frames = scene.output.vtu ? sim.frame_times().size() : 0;
@@ -149,6 +149,24 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
                 1e3 * d.centroid[2], 1e3 * d.altitude, d.altitude / d.median_altitude,
                 1e3 * d.median_altitude, d.xi);
   out << text;
+  // The nodal bound at the same cfl (run.step_bound = nodal steps at it), and without the
+  // viscosity's factor (what zeta1, zeta2 cost).
+  const NodalStepBound::Result n = sim.nodal_step_bound(scene.run.cfl);
+  if (n.node >= 0) {
+    const double* p = sim.grid().x() + 3 * n.node;
+    std::snprintf(text, sizeof text,
+                  "  dt_nodal  %.4g s (%.2f x the altitude bound's %.4g s; %.4g s without the "
+                  "viscosity's factor %.3f)\n"
+                  "            smallest: node %lld at (%.2f, %.2f, %.2f) mm, damping ratio %.3g; "
+                  "run.step_bound = %s\n",
+                  n.dt, n.dt / d.smallest, d.smallest, scene.run.cfl * 2.0 / n.omega,
+                  n.dt * n.omega / (2.0 * scene.run.cfl), static_cast<long long>(n.node),
+                  1e3 * p[0], 1e3 * p[1], 1e3 * p[2], n.xi,
+                  scene.run.step_bound == RunParams::StepBound::nodal
+                      ? "nodal (the run's step)"
+                      : "altitude (the run's step)");
+    out << text;
+  }
   if (ranks <= 1) return;
   // Over N ranks: the peak memory of a rank, fitted to 1-8 ranks on 0.1-3.1 M tets
   // (docs/parallel.md, "Scaling"): 125 MB + 589 B per tet of its part (own and ghost cells) +

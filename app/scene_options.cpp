@@ -470,6 +470,13 @@ const std::vector<Key>& scene_keys() {
         field("run.end_time", &Scene::run, &RP::end_time, "s", "simulated time", "> 0", positive));
     k.push_back(field("run.cfl", &Scene::run, &RP::cfl, "", "fraction of the stable time step",
                       "0 < cfl <= 1", [](const double& v) { return v > 0 && v <= 1; }));
+    k.push_back(word("run.step_bound", &Scene::run, &RP::step_bound,
+                     "what the stable time step bounds (docs/model.md, \"Stable step\")",
+                     "altitude (each element's smallest altitude over c_p; cfl 0.5 keeps it "
+                     "under the element's own limit) | nodal (the grid's largest frequency, "
+                     "node by node from the elements' exact stiffness; cfl 1 is the limit, "
+                     "follows node splits)",
+                     {{"altitude", RP::StepBound::altitude}, {"nodal", RP::StepBound::nodal}}));
     k.push_back(field("run.threads", &Scene::run, &RP::threads, "",
                       "OpenMP threads (0 = all cores)", "0 <= threads <= 1024",
                       [](const int& v) { return v >= 0 && v <= 1024; }));

@@ -6,12 +6,15 @@
 #include <vtkPoints.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "error.hpp"
 #include "fixtures.hpp"
 #include "integrator.hpp"
+#include "nodal_step.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
@@ -264,6 +267,148 @@ TEST(StableStep, RegularAndFlattenedTetrahedron) {
   EXPECT_LT(sliver.altitude, 0.1 * h);
   EXPECT_GT(sliver.xi, 10 * xi);
   EXPECT_LT(sliver.dt, 0.1 * regular.dt);
+}
+
+/// The 12 x 12 stiffness of the tet p (isotropic, Lame lambda and mu) entry by entry, the
+/// textbook way: K_(3a+i)(3b+j) = V (lambda g_a,i g_b,j + mu g_a,j g_b,i + mu g_a . g_b delta_ij).
+/// (Plain loops: Eigen's products of this size trip a false GCC 12 warning under -march=native.)
+using Mat12 = std::array<std::array<double, 12>, 12>;
+Mat12 tet_stiffness(const Vec3 p[4], double lambda, double mu) {
+  Mat3 Ds;
+  for (int k = 0; k < 3; ++k) Ds.col(k) = p[k + 1] - p[0];
+  const Mat3 R = Ds.inverse();
+  Vec3 g[4];
+  for (int k = 0; k < 3; ++k) g[k + 1] = R.row(k).transpose();
+  g[0] = -(g[1] + g[2] + g[3]);
+  const double V = std::abs(Ds.determinant()) / 6.0;
+  Mat12 K;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          K[3 * a + i][3 * b + j] = V * (lambda * g[a][i] * g[b][j] + mu * g[a][j] * g[b][i] +
+                                         (i == j ? mu * g[a].dot(g[b]) : 0.0));
+  return K;
+}
+
+/// The largest eigenvalue of a symmetric 12 x 12 K by power iteration (its Rayleigh quotient,
+/// from below), K shifted by |trace| so that its largest eigenvalue is the largest in magnitude.
+double largest_eigenvalue(const Mat12& K) {
+  double shift = 0;
+  for (int i = 0; i < 12; ++i) shift += K[i][i];
+  shift = std::abs(shift);
+  std::array<double, 12> u, w;
+  for (int i = 0; i < 12; ++i) u[i] = std::cos(1.3 * i + 0.2);
+  double rayleigh = 0;
+  for (int it = 0; it < 4000; ++it) {
+    double uw = 0, ww = 0;
+    for (int i = 0; i < 12; ++i) {
+      w[i] = shift * u[i];
+      for (int j = 0; j < 12; ++j) w[i] += K[i][j] * u[j];
+      uw += u[i] * w[i], ww += w[i] * w[i];
+    }
+    rayleigh = uw;  // u is a unit vector
+    for (int i = 0; i < 12; ++i) u[i] = w[i] / std::sqrt(ww);
+  }
+  return rayleigh - shift;
+}
+
+// The nodal bound's element eigenvalue (issue 38): the closed form equals the largest
+// eigenvalue of the assembled 12 x 12 stiffness on random tets (slivers among them) and for a
+// negative first Lame constant (the viscous matrix's may be).
+TEST(StableStep, TetStiffnessEigenvalueInClosedForm) {
+  std::mt19937 rng(38);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 300; ++trial) {
+    Vec3 p[4];
+    for (Vec3& q : p) q = Vec3(normal(rng), normal(rng), normal(rng));
+    if (trial % 3 == 0) p[3] = 0.3 * (p[0] + p[1] + p[2]) + Vec3(0, 0, 1e-2);  // a flat one
+    Mat3 Ds;
+    for (int k = 0; k < 3; ++k) Ds.col(k) = p[k + 1] - p[0];
+    if (Ds.determinant() < 0) std::swap(p[1], p[2]);
+    for (int k = 0; k < 3; ++k) Ds.col(k) = p[k + 1] - p[0];
+    const Mat3 R = Ds.inverse();
+    const Vec3 sum = R.colwise().sum().transpose();
+    const Mat3 GtG = R.transpose() * R + sum * sum.transpose();
+    for (const auto& [lambda, mu] : {std::pair{0.9, 1.3}, std::pair{-0.4, 1.0}}) {
+      const double exact = largest_eigenvalue(tet_stiffness(p, lambda, mu));
+      EXPECT_NEAR(tet_stiffness_eigenvalue(GtG, Ds.determinant() / 6.0, lambda, mu), exact,
+                  1e-9 * exact)
+          << "trial " << trial << ", lambda " << lambda;
+    }
+  }
+}
+
+// The nodal bound: for a lone tet (no viscosity) it is the tet's exact limit 2 / omega_max of
+// M^-1 K; on a small plate it bounds the assembled grid's largest frequency from above, and
+// not by more than 1.5 x (on the glass plate: 1.55 x before cracks, 1.10 x at 75 us;
+// docs/model.md).
+TEST(StableStep, NodalBoundIsExactForALoneTetAndBoundsTheGrid) {
+  MaterialParams m;
+  m.zeta1 = m.zeta2 = 0;
+  const ElasticConstants c = ElasticConstants::from(m);
+  const double lambda = c.K - 2.0 / 3.0 * c.mu;
+  const double a = 1e-3;
+  auto mesh = one_tet(a, 0.7 * a);
+  Grid tet(*mesh);
+  const ElementData el = make_element_data(tet, c, m);
+  Vec3 p[4];
+  for (int k = 0; k < 4; ++k) p[k] = Vec3(tet.x() + 3 * k);
+  const double m_node = c.rho0 * el.V0[0] / 4;
+  for (int k = 0; k < 4; ++k) tet.mass()[k] = m_node;
+  NodalStepBound bound;
+  const NodalStepBound::Result lone = bound(tet, el, c, 1.0);
+  EXPECT_NEAR(lone.omega, std::sqrt(largest_eigenvalue(tet_stiffness(p, lambda, c.mu)) / m_node),
+              1e-9 * lone.omega);
+  EXPECT_NEAR(lone.dt, 2.0 / lone.omega, 1e-12 * lone.dt);
+  EXPECT_EQ(lone.xi, 0.0);
+  // The altitude bound of the same tet at cfl 1 lies above the exact limit: cfl 0.5 keeps it
+  // under (docs/model.md).
+  const StableStep altitude = stable_time_step(tet, el, c, 1.0);
+  EXPECT_GT(altitude.dt, lone.dt);
+  EXPECT_LT(0.5 * altitude.dt, lone.dt);
+
+  // A small plate: the largest eigenvalue of M^-1/2 K M^-1/2 by power iteration (its
+  // Rayleigh quotient approaches it from below), element by element.
+  Scene s = plate_scene(0.5, 1e-6);
+  s.material = m;
+  s.geometry.L = 6e-3, s.geometry.H = 3e-3, s.geometry.T = 1e-3, s.geometry.notch_depth = 2e-3;
+  s.mesh.size = 1e-3, s.mesh.band = 0;
+  auto plate = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *plate);
+  const Grid& g = sim.grid();
+  const vtkIdType n = g.num_points();
+  std::vector<Mat12> K(g.num_cells());
+  for (vtkIdType e = 0; e < g.num_cells(); ++e) {
+    Vec3 q[4];
+    for (int k = 0; k < 4; ++k) q[k] = Vec3(g.x() + 3 * g.cells()[4 * e + k]);
+    K[e] = tet_stiffness(q, lambda, c.mu);
+  }
+  std::vector<double> u(3 * n), w(3 * n);
+  for (vtkIdType i = 0; i < 3 * n; ++i) u[i] = std::cos(1.7 * double(i) + 0.3);  // not smooth
+  double rayleigh = 0;
+  for (int it = 0; it < 3000; ++it) {
+    std::fill(w.begin(), w.end(), 0.0);
+    for (vtkIdType e = 0; e < g.num_cells(); ++e) {
+      const vtkIdType* ids = g.cells() + 4 * e;
+      double ue[12];
+      for (int i = 0; i < 12; ++i)
+        ue[i] = u[3 * ids[i / 3] + i % 3] / std::sqrt(g.mass()[ids[i / 3]]);
+      for (int i = 0; i < 12; ++i) {
+        double f = 0;
+        for (int j = 0; j < 12; ++j) f += K[e][i][j] * ue[j];
+        w[3 * ids[i / 3] + i % 3] += f / std::sqrt(g.mass()[ids[i / 3]]);
+      }
+    }
+    double uu = 0, uw = 0, ww = 0;
+    for (vtkIdType i = 0; i < 3 * n; ++i) uu += u[i] * u[i], uw += u[i] * w[i], ww += w[i] * w[i];
+    rayleigh = uw / uu;
+    for (vtkIdType i = 0; i < 3 * n; ++i) u[i] = w[i] / std::sqrt(ww);
+  }
+  const double omega_max = std::sqrt(rayleigh);
+  const NodalStepBound::Result grid = sim.nodal_step_bound(1.0);
+  EXPECT_GE(grid.omega, omega_max);
+  EXPECT_LE(grid.omega, 1.5 * omega_max);
 }
 
 /// The plate's element with the smallest stable step, and the corner opposite its largest face.

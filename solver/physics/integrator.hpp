@@ -29,6 +29,10 @@ struct StableStep {
   vtkIdType element = -1;
   double altitude = 0;  ///< h_e of that element [m]
   double xi = 0;        ///< xi_e of that element
+  /// With run.step_bound = nodal (NodalStepBound): the node that sets the step, -1 otherwise,
+  /// and its frequency bound [rad/s] (xi is then the node's damping ratio).
+  vtkIdType node = -1;
+  double omega = 0;
 };
 
 /// xi_e is the damping ratio of the element's highest (P) mode: xi_e = eta_P / (rho c_p h_e),

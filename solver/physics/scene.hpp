@@ -204,6 +204,10 @@ struct InitialParams {
 struct RunParams {
   double end_time = 30e-6;  ///< simulated time [s]
   double cfl = 0.5;         ///< fraction of the stable time step
+  /// Where the stable step comes from (docs/model.md, "Stable step"): the elements' smallest
+  /// altitudes (the default) or the nodal bound of the grid's largest frequency (issue 38).
+  enum class StepBound { altitude, nodal };
+  StepBound step_bound = StepBound::altitude;
   int threads = 0;          ///< OpenMP threads (0 = all cores)
   /// Stop once a crack from a notch has reached the plate's outer boundary (CutThrough).
   bool stop_when_cut_through = true;

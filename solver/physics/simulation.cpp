@@ -59,6 +59,15 @@ constexpr double kReductionTrigger = 0.1;
 /// split may extend a crack by up to one join, which over one join looks fast
 /// (docs/crack_fronts.md, "Fronts faster than c_p").
 constexpr double kFrontSpeedJoins = 3;
+/// What sets a stable step, for messages: "element E (altitude A m, damping ratio X)" or, for
+/// the nodal bound, "node N (frequency bound W rad/s, damping ratio X)".
+std::string step_source(const StableStep& s) {
+  if (s.node >= 0)
+    return error_message("node ", s.node, " (frequency bound ", s.omega, " rad/s, damping ratio ",
+                         s.xi, ")");
+  return error_message("element ", s.element, " (altitude ", s.altitude, " m, damping ratio ", s.xi,
+                       ")");
+}
 /// dt may fall to this fraction of the initial step before the run stops.
 constexpr double kSmallestStepFraction = 0.05;
 /// More steps than this are refused at the start: at 20 M tet-updates/s a 45 k-tet run of that
@@ -97,20 +106,20 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
     grid_.vtk()->GetFieldData()->AddArray(load);
   }
 
-  const StableStep stable = stable_time_step(grid_, elements_, constants_, scene.run.cfl);
-  BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt), "initial state: no stable time step (dt = ",
-                stable.dt, " s, element ", stable.element, ", altitude ", stable.altitude,
-                " m, damping ratio ", stable.xi, ") with run.cfl = ", scene.run.cfl,
-                ", material.zeta1 = ", scene.material.zeta1, ", material.zeta2 = ",
-                scene.material.zeta2, " (expected viscosities that leave a positive step)");
+  const StableStep stable = stable_step();
+  BRITTLE_CHECK(stable.dt > 0 && std::isfinite(stable.dt),
+                "initial state: no stable time step (dt = ", stable.dt, " s, ", step_source(stable),
+                ") with run.cfl = ", scene.run.cfl, ", material.zeta1 = ", scene.material.zeta1,
+                ", material.zeta2 = ", scene.material.zeta2,
+                " (expected viscosities that leave a positive step)");
   dt_ = initial_dt_ = stable.dt;
   step_distribution_ = brittle::step_distribution(grid_, elements_, constants_, scene.run.cfl);
   // A step count that no run finishes (cfl or a huge viscosity giving dt near 0) is refused
   // here, before any stepping, rather than run "forever".
   const double steps = scene.run.end_time / dt_;
   BRITTLE_CHECK(steps <= kMaxSteps, "run.end_time = ", scene.run.end_time, " s at dt = ", dt_,
-                " s (run.cfl = ", scene.run.cfl, ", element ", stable.element, ", damping ratio ",
-                stable.xi, ") needs ", steps, " steps, more than ", kMaxSteps,
+                " s (run.cfl = ", scene.run.cfl, ", ", step_source(stable), ") needs ", steps,
+                " steps, more than ", kMaxSteps,
                 " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
   assembler_.set_hot_threshold(fracture_.hot_threshold(grid_));  // the split scan's cells
   const vtkIdType bad = assembler_.compute(grid_);
@@ -158,6 +167,10 @@ void Simulation::decompose(Halo& halo) {
                     scene_.fracture.mode != FractureParams::Mode::branching,
                 "fracture.criterion = facet runs on one process for now (expected a run "
                 "without mpirun, or fracture.criterion = nodal-stress)");
+  // The nodal sums need every cell at a node, a rank holds one ghost layer of them.
+  BRITTLE_CHECK(scene_.run.step_bound == RunParams::StepBound::altitude,
+                "run.step_bound = nodal runs on one process for now (expected a run without "
+                "mpirun, or run.step_bound = altitude)");
   halo_ = &halo;
   integrator_.set_halo(&halo);
   fracture_.defer_counting();
@@ -166,7 +179,7 @@ void Simulation::decompose(Halo& halo) {
   reset_cracks();
   step_distribution_ =
       brittle::step_distribution(grid_, elements_, constants_, scene_.run.cfl, halo);
-  StableStep stable = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  StableStep stable = stable_step();
   vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
   halo.min_with_id(stable.dt, element);
   dt_ = initial_dt_ = stable.dt;
@@ -227,7 +240,11 @@ void Simulation::step_towards(double until) {
   }
   if (!global_splits_.empty() && !cut_.happened) check_cut_through();
   ++steps_;
-  if (steps_ % kTimeStepCheckInterval == 0) check_time_step();
+  // The nodal bound moves with the masses a split takes from a node: checked at once.
+  if (steps_ % kTimeStepCheckInterval == 0)
+    check_time_step();
+  else if (scene_.run.step_bound == RunParams::StepBound::nodal && !r.splits.empty())
+    check_time_step(NodalStepBound::Update::masses);
   clock.lap(own_times_.bookkeeping);
 }
 
@@ -257,23 +274,46 @@ PhaseTimes Simulation::phases() const {
   return p;
 }
 
-void Simulation::check_time_step() {
-  StableStep s = stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+StableStep Simulation::stable_step(NodalStepBound::Update update) {
+  if (scene_.run.step_bound == RunParams::StepBound::altitude)
+    return stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
+  const NodalStepBound::Result r =
+      nodal_step_(grid_, elements_, constants_, scene_.run.cfl, update);
+  StableStep s;
+  s.dt = r.dt;
+  s.node = r.node;
+  s.omega = r.omega;
+  s.xi = r.xi;
+  return s;
+}
+
+NodalStepBound::Result Simulation::nodal_step_bound(double cfl) {
+  return nodal_step_(grid_, elements_, constants_, cfl);
+}
+
+void Simulation::check_time_step(NodalStepBound::Update update) {
+  StableStep s = stable_step(update);
   if (halo_) {  // the whole grid's smallest step (ties: the lowest global cell)
     vtkIdType element = s.element >= 0 ? halo_->global_cell()[s.element] : -1;
     halo_->min_with_id(s.dt, element);
     s.element = element;  // (altitude and xi are this rank's: messages only)
   }
-  if (s.dt >= (1.0 - kReductionTrigger) * dt_) return;
+  // The nodal bound is the limit at cfl = 1: dt follows it down at once.
+  const double trigger =
+      scene_.run.step_bound == RunParams::StepBound::nodal ? 0.0 : kReductionTrigger;
+  if (!(s.dt < (1.0 - trigger) * dt_)) return;
   BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_,
-                "stable time step collapsed at t = ", time_, " s (step ", steps_, "): element ",
-                s.element, " has altitude ", s.altitude, " m and damping ratio ", s.xi,
-                ", giving dt = ", s.dt, " s, less than ", kSmallestStepFraction, " of the initial ",
-                initial_dt_, " s");
+                "stable time step collapsed at t = ", time_, " s (step ", steps_,
+                "): ", step_source(s), " gives dt = ", s.dt, " s, less than ",
+                kSmallestStepFraction, " of the initial ", initial_dt_, " s");
   if (dt_reductions_++ == 0)
-    step_warnings_.push_back(error_message(
-        "time step reduced from ", dt_, " to ", s.dt, " s at t = ", time_, " s: element ",
-        s.element, " is distorted (altitude ", s.altitude, " m, damping ratio ", s.xi, ")"));
+    step_warnings_.push_back(
+        s.node >= 0
+            ? error_message("time step reduced from ", dt_, " to ", s.dt, " s at t = ", time_,
+                            " s: ", step_source(s), " is split or distorted")
+            : error_message("time step reduced from ", dt_, " to ", s.dt, " s at t = ", time_,
+                            " s: element ", s.element, " is distorted (altitude ", s.altitude,
+                            " m, damping ratio ", s.xi, ")"));
   dt_ = s.dt;
 }
 

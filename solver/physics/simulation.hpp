@@ -2,14 +2,14 @@
 // observers (writers, renderers, trackers) about steps, frames and energies.
 #pragma once
 
+#include <vtkUnstructuredGrid.h>
+
 #include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <vtkUnstructuredGrid.h>
 
 #include "boundary.hpp"
 #include "cohesive.hpp"
@@ -21,6 +21,7 @@
 #include "halo.hpp"
 #include "integrator.hpp"
 #include "material.hpp"
+#include "nodal_step.hpp"
 #include "scene.hpp"
 
 namespace brittle {
@@ -277,7 +278,13 @@ class Simulation {
   /// Re-checks the stable step at the current element shapes (step() does every 20 steps):
   /// once it is 10 % below dt, dt follows it down (a warning the first time); throws
   /// brittle::Error naming the element when it falls below 5 % of the initial dt.
-  void check_time_step();
+  void check_time_step(NodalStepBound::Update update = NodalStepBound::Update::shapes);
+  /// The stable step of the grid as it is, by run.step_bound (altitude or nodal; `update`:
+  /// what changed for the nodal bound since its last call).
+  StableStep stable_step(NodalStepBound::Update update = NodalStepBound::Update::shapes);
+  /// The nodal bound of the grid as it is at this cfl, whatever run.step_bound says (one pass
+  /// over the elements; `brittle run --dry-run` prints it next to the altitude bound).
+  NodalStepBound::Result nodal_step_bound(double cfl);
 
   /// Fills the derived output fields (displacement, sigma1/sigma_c, time) of the grid.
   void update_output_fields();
@@ -297,6 +304,7 @@ class Simulation {
   Damage damage_;
   Boundary boundary_;
   Integrator integrator_;
+  NodalStepBound nodal_step_;  // run.step_bound = nodal: its scratch arrays
   StepReport last_step_;
   PhaseTimes own_times_;  // bookkeeping and output (the integrator times the rest)
   std::vector<TipSample> tip_samples_;
