@@ -411,6 +411,53 @@ TEST(StableStep, NodalBoundIsExactForALoneTetAndBoundsTheGrid) {
   EXPECT_LE(grid.omega, 1.5 * omega_max);
 }
 
+// run.step_bound = nodal follows a split at once: a node that keeps one of its cells (the worst
+// one, and that cell's quarter of the mass) after a split sets a smaller step, the run's dt follows
+// it on the re-check after the split (no 10 % slack), with a warning naming the node.
+TEST(StableStep, NodalBoundFollowsASplit) {
+  Scene s = plate_scene(0.5, 1e-6);
+  s.run.step_bound = RunParams::StepBound::nodal;
+  s.run.cfl = 0.9;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const double dt0 = sim.dt();
+  EXPECT_EQ(dt0, sim.nodal_step_bound(0.9).dt);
+  Grid& g = sim.grid();
+  // A corner of the element of the largest own frequency k_e / (rho V / 4): its daughter keeps
+  // that cell alone.
+  const double lambda = sim.constants().K - 2.0 / 3.0 * sim.constants().mu;
+  vtkIdType cell = -1;
+  double worst = 0;
+  for (vtkIdType e = 0; e < g.num_cells(); ++e) {
+    Mat3 Ds;
+    const vtkIdType* n = g.cells() + 4 * e;
+    for (int j = 0; j < 3; ++j) Ds.col(j) = Vec3(g.x() + 3 * n[j + 1]) - Vec3(g.x() + 3 * n[0]);
+    const Mat3 R = Ds.inverse();
+    const Vec3 sum = R.colwise().sum().transpose();
+    const double V = Ds.determinant() / 6.0;
+    const double w2 = tet_stiffness_eigenvalue(R.transpose() * R + sum * sum.transpose(), V, lambda,
+                                               sim.constants().mu) /
+                      V;
+    if (w2 > worst) worst = w2, cell = e;
+  }
+  vtkIdType k = g.cells()[4 * cell];
+  for (int a = 1; a < 4; ++a)
+    if (g.mass()[g.cells()[4 * cell + a]] > g.mass()[k]) k = g.cells()[4 * cell + a];
+  const double m_cell = sim.constants().rho0 * sim.elements().V0[cell] / 4;
+  const double m_k = g.mass()[k];
+  ASSERT_GT(m_k, 3 * m_cell);
+  const vtkIdType d = g.split_node(k, {cell});
+  g.mass()[d] = m_cell, g.mass()[k] = m_k - m_cell;
+  sim.check_time_step(NodalStepBound::Update::masses);
+  const NodalStepBound::Result after = sim.nodal_step_bound(0.9);
+  EXPECT_EQ(after.node, d);
+  EXPECT_LT(sim.dt(), 0.9 * dt0);
+  EXPECT_EQ(sim.dt(), after.dt);
+  const std::vector<std::string> w = sim.take_step_warnings();
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("node " + std::to_string(d)), std::string::npos) << w[0];
+}
+
 /// The plate's element with the smallest stable step, and the corner opposite its largest face.
 struct Critical {
   vtkIdType element = -1, apex = -1;
