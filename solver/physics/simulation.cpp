@@ -301,7 +301,7 @@ void Simulation::check_time_step(NodalStepBound::Update update) {
   // The nodal bound is the limit at cfl = 1: dt follows it down at once.
   const double trigger =
       scene_.run.step_bound == RunParams::StepBound::nodal ? 0.0 : kReductionTrigger;
-  if (!(s.dt < (1.0 - trigger) * dt_)) return;
+  if (s.dt >= (1.0 - trigger) * dt_) return;  // (a NaN step goes on to the error below)
   BRITTLE_CHECK(s.dt >= kSmallestStepFraction * initial_dt_,
                 "stable time step collapsed at t = ", time_, " s (step ", steps_,
                 "): ", step_source(s), " gives dt = ", s.dt, " s, less than ",
