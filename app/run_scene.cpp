@@ -151,7 +151,7 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
   out << text;
   // The nodal bound at the same cfl (run.step_bound = nodal steps at it), and without the
   // viscosity's factor (what zeta1, zeta2 cost).
-  const NodalStepBound::Result n = sim.nodal_step_bound(scene.run.cfl);
+  const StableStep n = sim.nodal_step_bound(scene.run.cfl);
   if (n.node >= 0) {
     const double* p = sim.grid().x() + 3 * n.node;
     std::snprintf(text, sizeof text,

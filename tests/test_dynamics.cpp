@@ -357,7 +357,7 @@ TEST(StableStep, NodalBoundIsExactForALoneTetAndBoundsTheGrid) {
   const double m_node = c.rho0 * el.V0[0] / 4;
   for (int k = 0; k < 4; ++k) tet.mass()[k] = m_node;
   NodalStepBound bound;
-  const NodalStepBound::Result lone = bound(tet, el, c, 1.0);
+  const StableStep lone = bound(tet, el, c, 1.0);
   EXPECT_NEAR(lone.omega, std::sqrt(largest_eigenvalue(tet_stiffness(p, lambda, c.mu)) / m_node),
               1e-9 * lone.omega);
   EXPECT_NEAR(lone.dt, 2.0 / lone.omega, 1e-12 * lone.dt);
@@ -406,7 +406,7 @@ TEST(StableStep, NodalBoundIsExactForALoneTetAndBoundsTheGrid) {
     for (vtkIdType i = 0; i < 3 * n; ++i) u[i] = w[i] / std::sqrt(ww);
   }
   const double omega_max = std::sqrt(rayleigh);
-  const NodalStepBound::Result grid = sim.nodal_step_bound(1.0);
+  const StableStep grid = sim.nodal_step_bound(1.0);
   EXPECT_GE(grid.omega, omega_max);
   EXPECT_LE(grid.omega, 1.5 * omega_max);
 }
@@ -449,7 +449,7 @@ TEST(StableStep, NodalBoundFollowsASplit) {
   const vtkIdType d = g.split_node(k, {cell});
   g.mass()[d] = m_cell, g.mass()[k] = m_k - m_cell;
   sim.check_time_step(NodalStepBound::Update::masses);
-  const NodalStepBound::Result after = sim.nodal_step_bound(0.9);
+  const StableStep after = sim.nodal_step_bound(0.9);
   EXPECT_EQ(after.node, d);
   EXPECT_LT(sim.dt(), 0.9 * dt0);
   EXPECT_EQ(sim.dt(), after.dt);

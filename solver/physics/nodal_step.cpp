@@ -41,7 +41,7 @@ bool shape(const double* x, const vtkIdType* n, double& V, Mat3& GtG) {
 
 }  // namespace
 
-NodalStepBound::Result NodalStepBound::operator()(const Grid& grid, const ElementData& el,
+StableStep NodalStepBound::operator()(const Grid& grid, const ElementData& el,
                                                   const ElasticConstants& c, double cfl,
                                                   Update update) {
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
@@ -86,15 +86,15 @@ NodalStepBound::Result NodalStepBound::operator()(const Grid& grid, const Elemen
       node_c_[cells[4 * e + a]] += c_[e];
     }
   const double* m = grid.mass();
-  Result best;
-  best.dt = std::numeric_limits<double>::infinity();
+  StableStep best;
+  best.dt = inf;
   for (vtkIdType i = 0; i < np; ++i) {
     if (!(node_k_[i] > 0) || !(m[i] > 0)) continue;  // a node of no element
     const double omega = std::sqrt(node_k_[i] / m[i]);
     const double xi = node_c_[i] / (2.0 * m[i] * omega);
     const double dt = cfl * (2.0 / omega) * (std::sqrt(1.0 + xi * xi) - xi);
     if (dt < best.dt || std::isnan(dt)) {
-      best = {dt, i, omega, xi};
+      best.dt = dt, best.node = i, best.omega = omega, best.xi = xi;
       if (std::isnan(dt)) break;
     }
   }

@@ -8,6 +8,7 @@
 
 #include "element_forces.hpp"
 #include "grid.hpp"
+#include "integrator.hpp"
 #include "material.hpp"
 
 namespace brittle {
@@ -29,11 +30,6 @@ double tet_stiffness_eigenvalue(const Mat3& GtG, double V, double lambda, double
 /// own exact limit.
 class NodalStepBound {
  public:
-  struct Result {
-    double dt = 0;             ///< cfl min_i dt_i [s]
-    vtkIdType node = -1;       ///< the node that sets it (the lowest id on ties)
-    double omega = 0, xi = 0;  ///< that node's frequency bound [rad/s] and damping ratio
-  };
   /// What changed since the last call: the masses only (node splits: the elements' k_e and c_e
   /// are kept, the nodal sums redone), or the shapes too. k_e and c_e are computed exactly
   /// (closed form) on the first call and follow later shapes by the ratio of
@@ -41,7 +37,9 @@ class NodalStepBound {
   enum class Update { shapes, masses };
   /// One pass over the elements (threads; none for masses) and one over the nodes in order:
   /// the same bits on any thread count. Scratch arrays grow with the grid, never shrink.
-  Result operator()(const Grid& grid, const ElementData& elements, const ElasticConstants& c,
+  /// dt = cfl min_i dt_i, with the node that sets it (the lowest id on ties), its frequency
+  /// bound omega_i and damping ratio xi_i; element and altitude are not set.
+  StableStep operator()(const Grid& grid, const ElementData& elements, const ElasticConstants& c,
                     double cfl, Update update = Update::shapes);
 
  private:

@@ -277,17 +277,10 @@ PhaseTimes Simulation::phases() const {
 StableStep Simulation::stable_step(NodalStepBound::Update update) {
   if (scene_.run.step_bound == RunParams::StepBound::altitude)
     return stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
-  const NodalStepBound::Result r =
-      nodal_step_(grid_, elements_, constants_, scene_.run.cfl, update);
-  StableStep s;
-  s.dt = r.dt;
-  s.node = r.node;
-  s.omega = r.omega;
-  s.xi = r.xi;
-  return s;
+  return nodal_step_(grid_, elements_, constants_, scene_.run.cfl, update);
 }
 
-NodalStepBound::Result Simulation::nodal_step_bound(double cfl) {
+StableStep Simulation::nodal_step_bound(double cfl) {
   return nodal_step_(grid_, elements_, constants_, cfl);
 }
 

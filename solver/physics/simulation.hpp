@@ -2,14 +2,14 @@
 // observers (writers, renderers, trackers) about steps, frames and energies.
 #pragma once
 
-#include <vtkUnstructuredGrid.h>
-
 #include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <vtkUnstructuredGrid.h>
 
 #include "boundary.hpp"
 #include "cohesive.hpp"
@@ -275,8 +275,9 @@ class Simulation {
   /// Kinetic, elastic and dissipated energies now (sums over fixed blocks: deterministic).
   Energies energies() const;
 
-  /// Re-checks the stable step at the current element shapes (step() does every 20 steps):
-  /// once it is 10 % below dt, dt follows it down (a warning the first time); throws
+  /// Re-checks the stable step at the current element shapes (step() does every 20 steps, and
+  /// after steps with splits for the nodal bound): once it is 10 % below dt (the nodal bound:
+  /// any amount), dt follows it down (a warning the first time); throws
   /// brittle::Error naming the element when it falls below 5 % of the initial dt.
   void check_time_step(NodalStepBound::Update update = NodalStepBound::Update::shapes);
   /// The stable step of the grid as it is, by run.step_bound (altitude or nodal; `update`:
@@ -284,7 +285,7 @@ class Simulation {
   StableStep stable_step(NodalStepBound::Update update = NodalStepBound::Update::shapes);
   /// The nodal bound of the grid as it is at this cfl, whatever run.step_bound says (one pass
   /// over the elements; `brittle run --dry-run` prints it next to the altitude bound).
-  NodalStepBound::Result nodal_step_bound(double cfl);
+  StableStep nodal_step_bound(double cfl);
 
   /// Fills the derived output fields (displacement, sigma1/sigma_c, time) of the grid.
   void update_output_fields();
