@@ -407,7 +407,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
   std::vector<Observer*> observers;
   for (auto& w : writers) observers.push_back(w.get());
   if (rank == 0) observers.insert(observers.end(), extra.begin(), extra.end());
-  return sim->run(observers);
+  CheckpointWriter checkpoints;
+  return sim->run(observers, &checkpoints);
 }
 
 void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::string& directory,

@@ -45,7 +45,8 @@ RunSummary run_simulation(Simulation& sim, const std::vector<Observer*>& extra,
   const auto renderer = make_render_observer(scene);  // null without render.times
   if (renderer) observers.push_back(renderer.get());
   observers.insert(observers.end(), extra.begin(), extra.end());
-  return sim.run(observers);
+  CheckpointWriter checkpoints;
+  return sim.run(observers, &checkpoints);
 }
 
 }  // namespace

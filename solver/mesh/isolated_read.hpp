@@ -10,7 +10,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
-#include "checkpoint.hpp"
+#include "archive.hpp"
 
 namespace brittle {
 

@@ -416,24 +416,13 @@ void Simulation::rebuild_fronts() {
   }
 }
 
-void StateWriter::write_out(const void* data, std::size_t size) {
-  const char* p = static_cast<const char*>(data);
-  while (size > 0 && error_ == 0) {
-    const ssize_t n = ::write(fd_, p, std::min<std::size_t>(size, kBlock << 4));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      error_ = n < 0 ? errno : EIO;
-      break;
-    }
-    p += n, size -= static_cast<std::size_t>(n);
-    if (kill_) std::raise(SIGKILL);  // tests only: a kill after the first block is out
-  }
+std::string CheckpointWriter::path(const Simulation& sim) const {
+  return checkpoint_path(sim.scene().output.directory);
 }
 
-void StateWriter::flush() {
-  if (fd_ < 0 || bytes_.empty()) return;
-  write_out(bytes_.data(), bytes_.size());
-  bytes_.clear();
+std::size_t CheckpointWriter::write(const Simulation& sim) {
+  return sim.halo() ? write_decomposed_checkpoint(sim, *sim.halo())
+                    : write_checkpoint(sim, path(sim));
 }
 
 std::size_t write_checkpoint(const Simulation& sim, const std::string& path) {

@@ -57,10 +57,6 @@ struct LocalPart {
   int parts = 1;
 };
 
-/// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured
-/// against (solver/physics/boundary.cpp).
-inline constexpr const char* kWholeBounds = "whole_mesh_bounds";
-
 /// The part `rank` of `partition` (grid: the whole grid, its reference positions X).
 LocalPart extract_part(const Grid& grid, const Partition& partition, int rank);
 

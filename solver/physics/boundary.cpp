@@ -16,7 +16,6 @@
 #include <map>
 
 #include "error.hpp"
-#include "partition.hpp"
 
 namespace brittle {
 

@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "recut.hpp"
-
 namespace brittle {
+
+struct Recut;  // run/recut.hpp: how a run is cut differently (recut() below)
 
 /// Names of the arrays kept on the live grid (written as they are to VTU).
 namespace field {
@@ -29,6 +29,10 @@ inline constexpr const char* time = "TimeValue";  // field data, ParaView's name
 /// branched (CrackFronts), 2 components per tip, for crack frames [m].
 inline constexpr const char* crack_tips = "crack_tips";
 }  // namespace field
+
+/// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured
+/// against (physics/boundary.cpp; written by parallel/partition.cpp's extract_part).
+inline constexpr const char* kWholeBounds = "whole_mesh_bounds";
 
 /// Owns the vtkUnstructuredGrid and hands out raw contiguous views of its arrays for the
 /// step loop. Views are invalidated when points are appended; call refresh() afterwards.

@@ -165,6 +165,17 @@ class Observer {
   virtual void on_warning(const Simulation&, const std::string&) {}
 };
 
+/// What writes the state for Simulation::run (observers/checkpoint.hpp's CheckpointWriter):
+/// the run decides when, the observer layer how. A run without one writes no checkpoint.
+class Checkpointer {
+ public:
+  virtual ~Checkpointer() = default;
+  /// The file a checkpoint of `sim` goes to (a decomposed run: the manifest).
+  virtual std::string path(const Simulation& sim) const = 0;
+  /// Writes the state now (collective in a decomposed run); returns this rank's bytes.
+  virtual std::size_t write(const Simulation& sim) = 0;
+};
+
 class Simulation {
  public:
   /// Builds the live grid from the reference mesh, sets the initial state (the uniaxial
@@ -182,11 +193,12 @@ class Simulation {
   void step_towards(double until);
 
   /// Steps until run.end_time, calling observers; frame and energy times from the scene,
-  /// checkpoints every output.checkpoint_interval into the output directory. On a blow-up the
-  /// observers still get on_finish (status "failed: ...") and the error is rethrown. When the
-  /// stop flag (set_stop_flag) turns non-zero the run finishes the step, writes a checkpoint
-  /// and a last frame, and returns with status "interrupted".
-  RunSummary run(const std::vector<Observer*>& observers);
+  /// checkpoints through `checkpointer` every output.checkpoint_interval (which needs one). On
+  /// a blow-up the observers still get on_finish (status "failed: ...") and the error is
+  /// rethrown. When the stop flag (set_stop_flag) turns non-zero the run finishes the step,
+  /// writes a checkpoint (if it has a checkpointer) and a last frame, and returns with status
+  /// "interrupted".
+  RunSummary run(const std::vector<Observer*>& observers, Checkpointer* checkpointer = nullptr);
 
   /// Makes this simulation one rank's part of a decomposed run (solver/parallel/halo.hpp): it was
   /// built on extract_part's mesh of this rank, and from now on its ghost nodes follow their

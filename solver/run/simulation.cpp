@@ -14,11 +14,10 @@
 #include <cstdlib>
 #include <tuple>
 
-#include "checkpoint.hpp"
+#include "archive.hpp"
 
 #include <sys/resource.h>
 #include "error.hpp"
-#include "partition.hpp"
 
 namespace brittle {
 namespace {
@@ -429,7 +428,7 @@ std::vector<double> frame_times(const Scene& scene) {
 
 std::vector<double> Simulation::frame_times() const { return brittle::frame_times(scene_); }
 
-RunSummary Simulation::run(const std::vector<Observer*>& observers) {
+RunSummary Simulation::run(const std::vector<Observer*>& observers, Checkpointer* checkpointer) {
   RunSummary summary;
   summary.nodes = initial_points_;
   summary.tets = grid_.num_cells();
@@ -440,6 +439,8 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
   summary.threads = omp_get_max_threads();
   RunProgress& p = progress_;
   const double checkpoint_interval = scene_.output.checkpoint_interval;
+  BRITTLE_CHECK(checkpoint_interval <= 0 || checkpointer,
+                "output.checkpoint_interval: this run has no checkpoint writer (Simulation::run)");
   if (!resumed_) {
     initial_energy_ = energies().total();
     p.next_checkpoint = checkpoint_interval;
@@ -514,11 +515,11 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers) {
     return frame;
   };
   auto checkpoint = [&]() {
+    if (!checkpointer) return;
     PhaseClock clock;
-    const std::string path = checkpoint_path(scene_.output.directory);
+    const std::string path = checkpointer->path(*this);
     const auto t0 = std::chrono::steady_clock::now();
-    summary.checkpoint_bytes =  // a decomposed run: every rank its piece (collective)
-        halo_ ? write_decomposed_checkpoint(*this, *halo_) : write_checkpoint(*this, path);
+    summary.checkpoint_bytes = checkpointer->write(*this);  // decomposed: collective
     summary.checkpoint_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++summary.checkpoints;
