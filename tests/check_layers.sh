@@ -5,6 +5,9 @@
 #
 #   bash tests/check_layers.sh [SOURCE_DIR]   one line per upward (or unknown) include, exit 1
 #   bash tests/check_layers.sh --self-test    plants an upward include in a copy: must be caught
+#   bash tests/check_layers.sh --libraries DIR   the same for symbols: no layer's library DIR/
+#                                             libbrittle_LAYER.a needs a symbol only a higher one
+#                                             defines (a member defined in the wrong folder)
 set -euo pipefail
 
 layers=(solver/physics solver/mesh solver/parallel solver/run solver/observers render app)
@@ -38,6 +41,21 @@ check() {
   return $bad
 }
 
+if [ "${1:-}" = "--libraries" ]; then
+  libs=(physics mesh parallel run observers) dir=$2 bad=0
+  for low in 0 1 2 3; do
+    for high in $(seq $((low + 1)) 4); do
+      while read -r symbol; do
+        echo "libbrittle_${libs[$low]}.a needs $symbol, defined in libbrittle_${libs[$high]}.a"
+        bad=1
+      done < <(comm -12 <(nm -C -u "$dir/libbrittle_${libs[$low]}.a" | sed 's/^ *U //' | sort -u) \
+                        <(nm -C --defined-only "$dir/libbrittle_${libs[$high]}.a" |
+                          awk '$2 ~ /^[TDBR]$/ { $1 = ""; $2 = ""; sub(/^  /, ""); print }' | sort -u))
+    done
+  done
+  [ $bad = 0 ] && echo "layers: no library needs a symbol of a layer above it"
+  exit $bad
+fi
 if [ "${1:-}" = "--self-test" ]; then
   here=$(cd "$(dirname "$0")/.." && pwd)
   tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

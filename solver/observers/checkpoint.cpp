@@ -401,21 +401,6 @@ void load_state(Simulation& sim, const CheckpointFile& f, const std::string& wha
 
 }  // namespace
 
-void Simulation::rebuild_fronts() {
-  // As the steps did: each step's splits, then the cut-through check.
-  fronts_ = make_crack_fronts();
-  reset_cracks();
-  cut_ = {};
-  for (std::size_t i = 0; i < events_.size(); ++i) {
-    const CrackEvent& e = events_[i];
-    if (e.kind != CrackEvent::Kind::split) continue;
-    fronts_.on_split(e.t, e.x, e.y);
-    cracks_.on_split(e.t, e.x, e.y);
-    const bool last_of_step = i + 1 == events_.size() || events_[i + 1].t != e.t;
-    if (last_of_step && !cut_.happened) check_cut_through();
-  }
-}
-
 std::string CheckpointWriter::path(const Simulation& sim) const {
   return checkpoint_path(sim.scene().output.directory);
 }

@@ -426,6 +426,22 @@ std::vector<double> frame_times(const Scene& scene) {
   return times;
 }
 
+// The crack fronts and patterns again from the event catalogue (after a restore or a re-cut).
+void Simulation::rebuild_fronts() {
+  // As the steps did: each step's splits, then the cut-through check.
+  fronts_ = make_crack_fronts();
+  reset_cracks();
+  cut_ = {};
+  for (std::size_t i = 0; i < events_.size(); ++i) {
+    const CrackEvent& e = events_[i];
+    if (e.kind != CrackEvent::Kind::split) continue;
+    fronts_.on_split(e.t, e.x, e.y);
+    cracks_.on_split(e.t, e.x, e.y);
+    const bool last_of_step = i + 1 == events_.size() || events_[i + 1].t != e.t;
+    if (last_of_step && !cut_.happened) check_cut_through();
+  }
+}
+
 std::vector<double> Simulation::frame_times() const { return brittle::frame_times(scene_); }
 
 RunSummary Simulation::run(const std::vector<Observer*>& observers, Checkpointer* checkpointer) {

@@ -335,7 +335,7 @@ class Simulation {
   double plate_box_[4] = {0, 0, 0, 0};  // the whole reference mesh's x and y bounds
   CutThrough cut_;
   void check_cut_through();  // after splits, and on restore (from the rebuilt fronts)
-  void rebuild_fronts();  // from the splits of events_ (checkpoint.cpp)
+  void rebuild_fronts();  // from the splits of events_ (after a restore or a re-cut)
   /// Every split and link failure in order (the crack fronts are rebuilt from it on restore).
   std::vector<CrackEvent> events_;
   RunProgress progress_;
