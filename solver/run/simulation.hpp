@@ -29,7 +29,8 @@ namespace brittle {
 /// One entry of the event catalogue (events.csv; docs/acoustic_emission.md): a node split or
 /// a cohesive link that failed (omega reached 1), at its reference position.
 struct CrackEvent {
-  enum class Kind : std::int32_t { split, link_failure };
+  /// 64 bits: no padding after it, so events go into checkpoint.bin as bytes that are all set.
+  enum class Kind : std::int64_t { split, link_failure };
   double t = 0;          ///< time of the step that ended with it [s]
   double x = 0, y = 0, z = 0;  ///< reference position of node a [m]
   Kind kind = Kind::split;
@@ -39,6 +40,8 @@ struct CrackEvent {
   double area = 0;       ///< A_c of the split's or the failed link's crack area, both faces [m^2]
   vtkIdType a = -1, b = -1;  ///< the daughters (split) / the link's nodes
 };
+static_assert(sizeof(CrackEvent) == 7 * sizeof(double) + 2 * sizeof(vtkIdType),
+              "CrackEvent has padding: its bytes in checkpoint.bin would not all be set");
 
 /// The energy budget (SPEC 7) at one instant; grows terms as mechanisms are added.
 struct Energies {
