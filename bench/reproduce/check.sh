@@ -8,7 +8,8 @@
 # fit_errors.txt of a run already made, and compares every curve's mean error with FILE (default
 # docs/figures/fit_errors.txt). A curve further than POINTS percentage points (default 0.2, above
 # the round-off ensemble's spread of docs/reproduction.md) from the record, or missing on either
-# side, is printed and makes the exit status 1.
+# side, is printed and makes the exit status 1. --self-test: the comparison passes on the record
+# itself and fails on a copy with one curve 0.3 points off (ctest RecordCheck.CatchesADoctoredCurve).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 brittle=$root/build/release/app/brittle expected=$root/docs/figures/fit_errors.txt
@@ -19,6 +20,16 @@ while [ $# -gt 0 ]; do
     --expected) expected=$2; shift 2 ;;
     --tolerance) tolerance=$2; shift 2 ;;
     --fresh) fresh=$2; shift 2 ;;
+    --self-test)  # the comparison on the record itself (holds) and on a doctored copy (fails)
+      tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+      awk '/calibrated/ { sub(/[0-9.]+ %$/, ($(NF - 1) + 0.3) " %") } 1' "$expected" > "$tmp/doctored.txt"
+      bash "$0" --expected "$expected" --fresh "$expected" > /dev/null ||
+        { echo "self-test: the record does not match itself" >&2; exit 1; }
+      if out=$(bash "$0" --expected "$expected" --fresh "$tmp/doctored.txt"); then
+        echo "self-test: a curve 0.3 points off went unnoticed" >&2; exit 1
+      fi
+      grep -q 'calibrated.*DIFFERS' <<<"$out" || { echo "self-test: unexpected report: $out" >&2; exit 1; }
+      echo "self-test: the doctored curve was caught"; exit 0 ;;
     *) echo "check.sh: unknown option '$1' (expected --brittle, --expected, --tolerance, --fresh)" >&2
        exit 2 ;;
   esac
