@@ -35,6 +35,9 @@ inline constexpr bool kSanitized = false;
 
 namespace fs = std::filesystem;
 
+/// The minimal valid scene: only the load is required.
+inline constexpr const char* kLoad = "[loading]\nsigma_over_sigmac = 0.6\n";
+
 /// A fresh directory under the system temp dir, removed with everything in it.
 class TempDir {
  public:
