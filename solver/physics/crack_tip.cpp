@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "error.hpp"
 
 namespace brittle {
 namespace {
