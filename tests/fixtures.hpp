@@ -108,4 +108,18 @@ inline Vec3 total_momentum(const Grid& g) {
   return p;
 }
 
+/// The paper's plate at 0.9 sigma_c with fracture in `mode`, on a mesh of `mesh_size`.
+inline Scene fracture_scene(FractureParams::Mode mode, double end_time, double mesh_size = 500e-6) {
+  Scene s = plate_scene(0.9, end_time, mode);
+  s.mesh.size = mesh_size;
+  return s;
+}
+
+/// The node on y = 0 nearest x (reference), or -1.
+inline vtkIdType node_on_midplane(const Grid& g, double x) {
+  for (vtkIdType p = 0; p < g.num_points(); ++p)
+    if (std::abs(g.X()[3 * p + 1]) < 1e-12 && std::abs(g.X()[3 * p] - x) < 0.6e-3) return p;
+  return -1;
+}
+
 }  // namespace brittle::testing
