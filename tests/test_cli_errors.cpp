@@ -21,16 +21,9 @@
 #include "cli_helpers.hpp"
 #include "fixtures.hpp"
 #include "output.hpp"
-#include "scene_options.hpp"
 
 namespace fs = std::filesystem;
 using namespace brittle_test;
-using brittle::load_scene;
-using brittle::Scene;
-using brittle::BoundaryParams;
-using brittle::InitialParams;
-using brittle::NotchParams;
-using brittle::TimeHistory;
 
 // ---------------------------------------------------------------------------------------------
 // The executable: one line on stderr, non-zero exit, nothing claimed complete

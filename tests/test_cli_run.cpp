@@ -15,16 +15,9 @@
 
 #include "cli_helpers.hpp"
 #include "output.hpp"
-#include "scene_options.hpp"
 
 namespace fs = std::filesystem;
 using namespace brittle_test;
-using brittle::load_scene;
-using brittle::Scene;
-using brittle::BoundaryParams;
-using brittle::InitialParams;
-using brittle::NotchParams;
-using brittle::TimeHistory;
 
 // brittle run --dry-run: the counts and estimates of a scene, and nothing written.
 TEST(Executable, DryRunPrintsTheRunAndWritesNothing) {
