@@ -21,6 +21,7 @@
 #include "cli_helpers.hpp"
 #include "fixtures.hpp"
 #include "output.hpp"
+#include "scene_options.hpp"
 
 namespace fs = std::filesystem;
 using namespace brittle_test;
