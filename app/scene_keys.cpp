@@ -26,7 +26,6 @@ std::string format_double(double v) {
   return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
 }
 
-
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;

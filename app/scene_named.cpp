@@ -42,7 +42,6 @@ const std::vector<NamedKey>& named_keys() {
   return keys;
 }
 
-
 /// "boundary.top.traction" -> its kind, name and key, if it is a named-section key.
 std::optional<std::array<std::string, 3>> split_named(const std::string& full) {
   const auto a = full.find('.');

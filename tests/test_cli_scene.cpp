@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-
 #include "cli_helpers.hpp"
 #include "error.hpp"
 #include "scene_options.hpp"

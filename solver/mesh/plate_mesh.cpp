@@ -537,5 +537,4 @@ vtkSmartPointer<vtkUnstructuredGrid> make_mesh(const Scene& scene) {
   return mesh;
 }
 
-
 }  // namespace brittle

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-
 namespace brittle {
 namespace {
 
