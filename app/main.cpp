@@ -76,6 +76,10 @@ class Progress : public brittle::Observer {
         static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()),
         halo ? (" over " + std::to_string(halo->size()) + " ranks").c_str() : "", sim.dt(),
         static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5), sim.scene().run.end_time);
+    if (const brittle::MassScaling& m = sim.mass_scaling(); m.target > 0)
+      say("brittle: mass scaling to dt = %.4g s: %lld elements scaled, %.3g %% of the mass added "
+          "(largest factor %.3g)\n",
+          m.target, static_cast<long long>(m.elements), 100.0 * m.added / m.mass, m.largest);
   }
   void on_step(const brittle::Simulation& sim) override {
     const bool line = every_ > 0 && sim.steps() % every_ == 0;

@@ -168,6 +168,15 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
                       : "altitude (the run's step)");
     out << text;
   }
+  if (const MassScaling& m = sim.mass_scaling(); m.target > 0) {
+    std::snprintf(text, sizeof text,
+                  "  mass      run.mass_scaling = %.4g s: %lld element%s scaled, %.4g kg added "
+                  "to %.4g kg (%.3g %%), largest factor %.3g (element %lld)\n",
+                  m.target, static_cast<long long>(m.elements), m.elements == 1 ? "" : "s",
+                  m.added, m.mass, 100.0 * m.added / m.mass, m.largest,
+                  static_cast<long long>(m.element));
+    out << text;
+  }
   if (ranks <= 1) return;
   // Over N ranks: the peak memory of a rank, fitted to 1-8 ranks on 0.1-3.1 M tets
   // (docs/parallel.md, "Scaling"): 125 MB + 589 B per tet of its part (own and ghost cells) +

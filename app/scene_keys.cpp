@@ -426,6 +426,11 @@ const std::vector<Key>& scene_keys() {
                      "node by node from the elements' exact stiffness; cfl 1 is the limit, "
                      "follows node splits)",
                      {{"altitude", RP::StepBound::altitude}, {"nodal", RP::StepBound::nodal}}));
+    k.push_back(field("run.mass_scaling", &Scene::run, &RP::mass_scaling, "s",
+                      "mass scaling (docs/performance.md): elements whose altitude-bound step at "
+                      "cfl 0.5 is below this get the density that brings it to this; the dry run "
+                      "and summary.json report the mass added; 0 = none",
+                      ">= 0", non_negative));
     k.push_back(field("run.threads", &Scene::run, &RP::threads, "",
                       "OpenMP threads (0 = all cores)", "0 <= threads <= 1024",
                       [](const int& v) { return v >= 0 && v <= 1024; }));

@@ -230,7 +230,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
           f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join, f.facet_link);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
-  section("run", s.run.cfl, s.run.stop_when_cut_through, s.run.step_bound);
+  section("run", s.run.cfl, s.run.stop_when_cut_through, s.run.step_bound, s.run.mass_scaling);
   OutputParams& o = s.output;
   section("output", o.frame_interval, o.frame_times, o.vtu, o.energy_interval,
           o.imbalance_warning);
@@ -241,7 +241,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 12;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 13;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                        // 4: Weibull strength keys; 5: no element forces (the
                                        // next step recomputes them before any use); 6: blocks
                                        // with h_e for the two viscosities, no viscous powers;
@@ -251,7 +251,8 @@ constexpr std::uint32_t kFormat = 12;  // 2: exact energy sums; 3: cut-through a
                                        // and the nodes' split times; 10: fracture.beta,
                                        // track_join, mesh.algorithm and the facet criterion's open
                                        // faces; 11: fracture.facet_link and the faces' opening
-                                       // tractions; 12: run.step_bound
+                                       // tractions; 12: run.step_bound;
+                                       // 13: run.mass_scaling
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

@@ -91,6 +91,16 @@ std::string summary_json(const Simulation& sim, const RunSummary& s) {
   } else {
     j["step_distribution"] = nullptr;
   }
+  if (const MassScaling& m = sim.mass_scaling(); m.target > 0)
+    j["mass_scaling"] = {{"target_dt", number(m.target)},
+                         {"elements", m.elements},
+                         {"mass", number(m.mass)},
+                         {"added_mass", number(m.added)},
+                         {"added_fraction", number(m.added / m.mass)},
+                         {"largest_factor", number(m.largest)},
+                         {"largest_element", m.element}};
+  else
+    j["mass_scaling"] = nullptr;
   j["dt_reductions"] = s.dt_reductions;
   j["substep_cap_steps"] = s.substep_cap_steps;
   j["end_time"] = measured("end_time", s.end_time);

@@ -23,6 +23,8 @@ struct ElementData {
   std::vector<double> h_e;      ///< element size: edge of the regular tet of volume V0
   double eta_dil_per_h = 0;     ///< zeta1 rho0 c_p: eta_dil = eta_dil_per_h h_e (bulk viscosity)
   double eta_dev_per_h = 0;     ///< zeta2 rho0 c_s: eta_dev = eta_dev_per_h h_e (shear viscosity)
+  /// Density factor per element from run.mass_scaling (empty: none, every factor 1).
+  std::vector<double> mass_scale;
   double eta_dil(std::size_t e) const { return eta_dil_per_h * h_e[e]; }
   double eta_dev(std::size_t e) const { return eta_dev_per_h * h_e[e]; }
 };
@@ -66,7 +68,8 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& elem
 /// brittle::Error for a cell with non-positive reference volume.
 ElementData make_element_data(const Grid& grid, const ElasticConstants& c, const MaterialParams& m);
 
-/// Lumped masses: each node gets rho0 V0 / 4 from each of its elements (2.1).
+/// Lumped masses: each node gets rho0 V0 / 4 from each of its elements (2.1), times the
+/// element's mass scale (run.mass_scaling).
 void lump_masses(Grid& grid, const ElementData& elements, double rho0);
 
 /// Nodal internal forces. Each node's force is the sum of its (element, corner) forces in

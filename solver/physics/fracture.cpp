@@ -354,7 +354,10 @@ void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembl
       r.F_b += f;
     } else {
       r.F_a += f;
-      r.m_a += 0.25 * rho0_ * elements.V0[k.cell];
+      if (elements.mass_scale.empty())  // as lump_masses does it
+        r.m_a += 0.25 * rho0_ * elements.V0[k.cell];
+      else
+        r.m_a += 0.25 * rho0_ * elements.V0[k.cell] * elements.mass_scale[k.cell];
     }
   }
   r.m_b = grid.mass()[K] - r.m_a;

@@ -208,6 +208,9 @@ struct RunParams {
   /// altitudes (the default) or the nodal bound of the grid's largest frequency (issue 38).
   enum class StepBound { altitude, nodal };
   StepBound step_bound = StepBound::altitude;
+  /// Mass scaling (issue 38; docs/performance.md): elements whose altitude-bound step at cfl
+  /// 0.5 is below this get the density that brings it to this [s] (0 = none, the default).
+  double mass_scaling = 0;
   int threads = 0;          ///< OpenMP threads (0 = all cores)
   /// Stop once a crack from a notch has reached the plate's outer boundary (CutThrough).
   bool stop_when_cut_through = true;

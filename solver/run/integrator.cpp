@@ -16,7 +16,9 @@ namespace brittle {
 namespace {
 
 /// Element e's stable step at its current shape: dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) -
-/// xi_e) (SPEC 4; docs/model.md, "Stable step").
+/// xi_e) (SPEC 4; docs/model.md, "Stable step"); with a mass scale s (run.mass_scaling) the
+/// element's density is s rho and dt_e = cfl (h_e / c_p) (sqrt(s + xi_e^2) - xi_e), xi_e the
+/// unscaled damping ratio (c_p and xi_e both fall as 1 / sqrt(s)).
 inline StableStep element_step(const double* x, const vtkIdType* cells, const double* V0,
                                const ElementData& el, const ElasticConstants& c, double cfl,
                                vtkIdType e) {
@@ -31,7 +33,9 @@ inline StableStep element_step(const double* x, const vtkIdType* cells, const do
   // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
   const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
   const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
-  const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+  const double root = el.mass_scale.empty() ? std::sqrt(1.0 + xi * xi)
+                                            : std::sqrt(el.mass_scale[e] + xi * xi);
+  const double dt = cfl * altitude / c.c_p * (root - xi);
   return StableStep{dt, e, altitude, xi};
 }
 
@@ -63,6 +67,33 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
   for (const StableStep& mine : found)
     if (before(mine, best)) best = mine;
   return best;
+}
+
+MassScaling scale_masses(const Grid& grid, ElementData& el, const ElasticConstants& c,
+                         double rho0, double target) {
+  constexpr double kCfl = 0.5;  // the altitude bound's safe cfl (docs/performance.md)
+  MassScaling m;
+  m.target = target;
+  const vtkIdType ne = grid.num_cells();
+  el.mass_scale.assign(ne, 1.0);
+  const double* x = grid.x();
+  const vtkIdType* cells = grid.cells();
+#pragma omp parallel for schedule(static)
+  for (vtkIdType e = 0; e < ne; ++e) {
+    const StableStep s = element_step(x, cells, el.V0.data(), el, c, kCfl, e);
+    if (!(s.dt < target) || !(s.altitude > 0)) continue;
+    const double q = target / (kCfl * s.altitude / c.c_p);
+    el.mass_scale[e] = std::max(1.0, q * q + 2.0 * s.xi * q);
+  }
+  for (vtkIdType e = 0; e < ne; ++e) {
+    const double m0 = rho0 * el.V0[e], f = el.mass_scale[e];
+    m.mass += m0;
+    if (f == 1.0) continue;
+    ++m.elements;
+    m.added += (f - 1.0) * m0;
+    if (f > m.largest) m.largest = f, m.element = e;
+  }
+  return m;
 }
 
 StepDistribution step_distribution(const Grid& grid, const ElementData& el,

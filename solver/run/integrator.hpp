@@ -65,6 +65,25 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& elements
 StepDistribution step_distribution(const Grid& grid, const ElementData& elements,
                                    const ElasticConstants& c, double cfl, const Halo& halo);
 
+/// Mass scaling (run.mass_scaling; issue 38, docs/performance.md "Mass scaling"): every element
+/// whose altitude-bound step at cfl 0.5, dt_e = 0.5 (h_e / c_p) (sqrt(s + xi_e^2) - xi_e) at
+/// density factor s, is below `target` gets the factor s_e that brings it to `target`
+/// (closed form: s_e = q^2 + 2 xi_e q, q = target / (0.5 h_e / c_p)), at the grid's reference
+/// shape (before any pre-stress); the others keep s = 1. What it added, for the dry run and
+/// summary.json.
+struct MassScaling {
+  double target = 0;          ///< the step asked for [s] (0: none)
+  vtkIdType elements = 0;     ///< elements scaled
+  double mass = 0;            ///< the grid's mass before [kg]
+  double added = 0;           ///< the mass added [kg]
+  double largest = 1;         ///< the largest factor s_e
+  vtkIdType element = -1;     ///< its element
+};
+/// Fills elements.mass_scale (before the masses are lumped). Bitwise the same on any thread
+/// count (each element on its own; the sums in cell order).
+MassScaling scale_masses(const Grid& grid, ElementData& elements, const ElasticConstants& c,
+                         double rho0, double target);
+
 /// Wall time of each phase of the step loop, summed over the run [s]: summary.json "phases",
 /// `brittle run --profile` (docs/performance.md).
 struct PhaseTimes {

@@ -82,6 +82,9 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
       fronts_(make_fronts(scene, median_volume(elements_.V0))) {
   // Gmsh sets OpenMP's thread count when it initialises: set ours after meshing.
   omp_set_num_threads(scene.run.threads > 0 ? scene.run.threads : omp_get_num_procs());
+  if (scene.run.mass_scaling > 0)
+    mass_scaling_ =
+        scale_masses(grid_, elements_, constants_, constants_.rho0, scene.run.mass_scaling);
   lump_masses(grid_, elements_, constants_.rho0);
   apply_initial_state(scene, sigma_, constants_, grid_, reference_mesh);
   boundary_.impose_velocities(grid_, 0.0);
@@ -160,6 +163,10 @@ void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(scene_.run.step_bound == RunParams::StepBound::altitude,
                 "run.step_bound = nodal runs on one process for now (expected a run without "
                 "mpirun, or run.step_bound = altitude)");
+  // Its report sums the rank's cells, ghosts included.
+  BRITTLE_CHECK(scene_.run.mass_scaling == 0,
+                "run.mass_scaling runs on one process for now (expected a run without mpirun, "
+                "or run.mass_scaling = 0)");
   halo_ = &halo;
   integrator_.set_halo(&halo);
   fracture_.defer_counting();

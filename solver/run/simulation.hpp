@@ -251,6 +251,8 @@ class Simulation {
   double dt() const { return dt_; }
   /// The elements' stable steps at the start (of the whole grid in a decomposed run).
   const StepDistribution& step_distribution() const { return step_distribution_; }
+  /// What run.mass_scaling added (target 0: none).
+  const MassScaling& mass_scaling() const { return mass_scaling_; }
   long steps() const { return steps_; }
   double sigma() const { return sigma_; }
   const Scene& scene() const { return scene_; }
@@ -329,6 +331,7 @@ class Simulation {
   void reset_cracks();  // empty, seeded at the notch tips, with the fronts' join distance
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
   StepDistribution step_distribution_;
+  MassScaling mass_scaling_;
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   ExactSum damage_dissipated_;  // (the viscous work is kept per element: ForceAssembler)
   double initial_energy_ = 0;
