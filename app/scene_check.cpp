@@ -39,6 +39,10 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   ": fracture.mode = straight follows the paper's notch (y = 0, x >= a) and "
                   "cannot be used with [notch.NAME] sections (expected branching or none)");
   }
+  BRITTLE_CHECK(s.run.mass_scaling <= s.run.end_time, o.latest({"run.mass_scaling", "run.end_time"}),
+                ": run.mass_scaling = ", format_double(s.run.mass_scaling),
+                " s is longer than run.end_time = ", format_double(s.run.end_time),
+                " s (expected a step shorter than the run)");
   BRITTLE_CHECK(s.mesh.perturb == 0 || s.fracture.mode != FractureParams::Mode::straight,
                 o.latest({"mesh.perturb", "fracture.mode"}),
                 ": mesh.perturb moves the nodes of the paper's crack plane, which fracture.mode = "

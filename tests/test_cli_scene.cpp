@@ -338,6 +338,11 @@ TEST(LoadSceneErrors, MalformedValues) {
                  }),
                  {"--set 'material.E': expected section.key=value"});
   expect_message(error_of([&] { load_scene({}, {"=1"}); }), {"--set '=1'", "section.key=value"});
+  expect_message(error_of([&] {
+                   load_scene({}, {"loading.sigma=1e6", "run.mass_scaling=1e300"});
+                 }),
+                 {"--set: run.mass_scaling = 1e+300 s is longer than run.end_time",
+                  "expected a step shorter than the run"});
 }
 
 TEST(LoadSceneErrors, SyntaxAndDuplicates) {
