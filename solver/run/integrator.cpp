@@ -16,9 +16,7 @@ namespace brittle {
 namespace {
 
 /// Element e's stable step at its current shape: dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) -
-/// xi_e) (SPEC 4; docs/model.md, "Stable step"); with a mass scale s (run.mass_scaling) the
-/// element's density is s rho and dt_e = cfl (h_e / c_p) (sqrt(s + xi_e^2) - xi_e), xi_e the
-/// unscaled damping ratio (c_p and xi_e both fall as 1 / sqrt(s)).
+/// xi_e) (SPEC 4; docs/model.md, "Stable step").
 inline StableStep element_step(const double* x, const vtkIdType* cells, const double* V0,
                                const ElementData& el, const ElasticConstants& c, double cfl,
                                vtkIdType e) {
@@ -33,10 +31,29 @@ inline StableStep element_step(const double* x, const vtkIdType* cells, const do
   // xi = eta_P / (rho c_p h) with the current density rho0 / J   (J = V / V0)
   const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
   const double xi = altitude > 0 ? eta_P * (V / V0[e]) / (c.rho0 * c.c_p * altitude) : 0.0;
-  const double root = el.mass_scale.empty() ? std::sqrt(1.0 + xi * xi)
-                                            : std::sqrt(el.mass_scale[e] + xi * xi);
-  const double dt = cfl * altitude / c.c_p * (root - xi);
+  const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
   return StableStep{dt, e, altitude, xi};
+}
+
+/// The same with the element's mass scale s (run.mass_scaling): its density is s rho, and
+/// dt_e = cfl (h_e / c_p) (sqrt(s + xi_e^2) - xi_e), xi_e the unscaled damping ratio (c_p and
+/// xi_e both fall as 1 / sqrt(s)). Kept apart from element_step, which unscaled runs use as
+/// it was compiled before mass scaling (their bits do not move).
+StableStep scaled_element_step(const double* x, const vtkIdType* cells, const double* V0,
+                               const ElementData& el, const ElasticConstants& c, double cfl,
+                               vtkIdType e) {
+  StableStep s = element_step(x, cells, V0, el, c, cfl, e);
+  const double f = el.mass_scale[e];
+  if (f != 1.0) s.dt = cfl * s.altitude / c.c_p * (std::sqrt(f + s.xi * s.xi) - s.xi);
+  return s;
+}
+
+/// element_step, or scaled_element_step when the run scales masses.
+inline StableStep step_of(const double* x, const vtkIdType* cells, const double* V0,
+                          const ElementData& el, const ElasticConstants& c, double cfl,
+                          vtkIdType e) {
+  return el.mass_scale.empty() ? element_step(x, cells, V0, el, c, cfl, e)
+                               : scaled_element_step(x, cells, V0, el, c, cfl, e);
 }
 
 }  // namespace
@@ -59,7 +76,7 @@ StableStep stable_time_step(const Grid& grid, const ElementData& el, const Elast
     StableStep& mine = found[omp_get_thread_num()];
 #pragma omp for schedule(static)
     for (vtkIdType e = 0; e < ne; ++e) {
-      const StableStep here = element_step(x, cells, V0, el, c, cfl, e);
+      const StableStep here = step_of(x, cells, V0, el, c, cfl, e);
       if (before(here, mine)) mine = here;
     }
   }
@@ -106,7 +123,7 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& el,
   std::vector<double> dt(ne), h(ne);
 #pragma omp parallel for schedule(static)
   for (vtkIdType e = 0; e < ne; ++e) {
-    const StableStep s = element_step(x, cells, V0, el, c, cfl, e);
+    const StableStep s = step_of(x, cells, V0, el, c, cfl, e);
     dt[e] = s.dt;
     h[e] = s.altitude;
   }
@@ -144,7 +161,7 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& el,
   worst.dt = std::numeric_limits<double>::infinity();
   for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
     if (!halo.owns_cell(e)) continue;
-    const StableStep s = element_step(x, cells, V0, el, c, cfl, e);
+    const StableStep s = step_of(x, cells, V0, el, c, cfl, e);
     dt.push_back(s.dt);
     h.push_back(s.altitude);
     if (s.dt < worst.dt) worst = s;
