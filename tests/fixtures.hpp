@@ -122,4 +122,25 @@ inline vtkIdType node_on_midplane(const Grid& g, double x) {
   return -1;
 }
 
+/// What a run on `threads` threads leaves, for the tests that compare thread counts bitwise.
+struct ThreadRun {
+  long splits = 0;
+  std::vector<double> x, v, Omega;  ///< positions, velocities, damage at the end
+  double tip_x = 0, tip_y = 0;
+};
+
+/// Runs `scene` on `mesh` with `threads` threads (no files written).
+inline ThreadRun run_on_threads(Scene scene, vtkUnstructuredGrid& mesh, int threads) {
+  scene.run.threads = threads;
+  Simulation sim(scene, mesh);
+  ThreadRun r;
+  r.splits = sim.run({}).splits;
+  const Grid& g = sim.grid();
+  r.x.assign(g.x(), g.x() + 3 * g.num_points());
+  r.v.assign(g.v(), g.v() + 3 * g.num_points());
+  r.Omega.assign(g.damage(), g.damage() + g.num_cells());
+  r.tip_x = sim.fracture().tip_x(), r.tip_y = sim.fracture().tip_y();
+  return r;
+}
+
 }  // namespace brittle::testing

@@ -18,6 +18,8 @@ using testing::total_mass;
 using testing::total_momentum;
 using testing::fracture_scene;
 using testing::node_on_midplane;
+using testing::run_on_threads;
+using testing::ThreadRun;
 
 // The energy criterion's estimate (docs/fracture-criteria.md): for the plane-stress mode-I
 // field of a tip at node K (Williams), G_eps(K, n) = C eps n.<(T+)^2> n / E is K^2 / E on the
@@ -201,20 +203,14 @@ TEST(Branching, FacetCriterionResultsIndependentOfThreadCount) {
   s.fracture.alpha = 9.35e-8;
   s.damage.beta1 = 5e6;
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  std::vector<std::vector<double>> x;
-  std::vector<long> splits;
-  for (int threads : {1, 2}) {
-    s.run.threads = threads;
-    Simulation sim(s, *mesh);
-    splits.push_back(sim.run({}).splits);
-    const Grid& g = sim.grid();
-    x.emplace_back(g.x(), g.x() + 3 * g.num_points());
-    EXPECT_NEAR(sim.fracture().tip_y(), 0.0, 2e-3);
-    EXPECT_GT(sim.fracture().tip_x(), s.geometry.notch_depth);
+  const ThreadRun one = run_on_threads(s, *mesh, 1), two = run_on_threads(s, *mesh, 2);
+  for (const ThreadRun& r : {one, two}) {
+    EXPECT_NEAR(r.tip_y, 0.0, 2e-3);
+    EXPECT_GT(r.tip_x, s.geometry.notch_depth);
   }
-  EXPECT_GT(splits[0], 0);
-  EXPECT_EQ(splits[0], splits[1]);
-  EXPECT_EQ(x[0], x[1]);
+  EXPECT_GT(one.splits, 0);
+  EXPECT_EQ(one.splits, two.splits);
+  EXPECT_EQ(one.x, two.x);
 }
 
 }  // namespace

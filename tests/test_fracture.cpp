@@ -25,6 +25,8 @@ using testing::total_mass;
 using testing::total_momentum;
 using testing::fracture_scene;
 using testing::node_on_midplane;
+using testing::run_on_threads;
+using testing::ThreadRun;
 
 // A split conserves mass and momentum, partitions K's force, and f0 (2.6) gives both
 // daughters the same acceleration (2.5).
@@ -268,22 +270,12 @@ TEST(Branching, ResultsIndependentOfThreadCount) {
   s.fracture.alpha = 9.35e-8;
   s.damage.beta1 = 5e6;
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  std::vector<std::vector<double>> x, v, Omega;
-  std::vector<long> splits;
-  for (int threads : {1, 2}) {
-    s.run.threads = threads;
-    Simulation sim(s, *mesh);
-    splits.push_back(sim.run({}).splits);
-    const Grid& g = sim.grid();
-    x.emplace_back(g.x(), g.x() + 3 * g.num_points());
-    v.emplace_back(g.v(), g.v() + 3 * g.num_points());
-    Omega.emplace_back(g.damage(), g.damage() + g.num_cells());
-  }
-  EXPECT_GT(splits[0], 0);
-  EXPECT_EQ(splits[0], splits[1]);
-  EXPECT_EQ(x[0], x[1]);
-  EXPECT_EQ(v[0], v[1]);
-  EXPECT_EQ(Omega[0], Omega[1]);
+  const ThreadRun one = run_on_threads(s, *mesh, 1), two = run_on_threads(s, *mesh, 2);
+  EXPECT_GT(one.splits, 0);
+  EXPECT_EQ(one.splits, two.splits);
+  EXPECT_EQ(one.x, two.x);
+  EXPECT_EQ(one.v, two.v);
+  EXPECT_EQ(one.Omega, two.Omega);
 }
 
 // material.weibull_modulus: each node's strength is a Weibull sample of mean sigma_c drawn from
@@ -333,17 +325,10 @@ TEST(Strength, WeibullRunIsIndependentOfThreadCount) {
   Scene s = fracture_scene(FractureParams::Mode::branching, 12e-6);
   s.material.weibull_modulus = 10;
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
-  std::vector<std::vector<double>> x;
-  std::vector<long> splits;
-  for (int threads : {1, 2}) {
-    s.run.threads = threads;
-    Simulation sim(s, *mesh);
-    splits.push_back(sim.run({}).splits);
-    x.emplace_back(sim.grid().x(), sim.grid().x() + 3 * sim.grid().num_points());
-  }
-  EXPECT_GT(splits[0], 0);
-  EXPECT_EQ(splits[0], splits[1]);
-  EXPECT_EQ(x[0], x[1]);
+  const ThreadRun one = run_on_threads(s, *mesh, 1), two = run_on_threads(s, *mesh, 2);
+  EXPECT_GT(one.splits, 0);
+  EXPECT_EQ(one.splits, two.splits);
+  EXPECT_EQ(one.x, two.x);
 }
 
 // fracture.region limits where nodes break: a branching run confined to |y| <= 1 mm,
