@@ -57,11 +57,27 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   ": fracture.criterion = energy has no per-node strengths (expected "
                   "material.weibull_modulus = 0)");
   }
-  BRITTLE_CHECK(s.fracture.criterion != FractureParams::Criterion::facet ||
-                    s.fracture.mode == FractureParams::Mode::branching,
-                o.latest({"fracture.criterion", "fracture.mode"}),
-                ": fracture.criterion = facet needs fracture.mode = branching (straight splits "
-                "the paper's plane by its normal stress (6.7))");
+  using C = FractureParams::Criterion;
+  const C c = s.fracture.criterion;
+  const bool facets = c == C::facet || c == C::nonlocal_facet || c == C::coupled_facet;
+  BRITTLE_CHECK(!facets || s.fracture.mode == FractureParams::Mode::branching,
+                o.latest({"fracture.criterion", "fracture.mode"}), ": fracture.criterion = ",
+                c == C::facet ? "facet" : c == C::nonlocal_facet ? "nonlocal-facet" : "coupled-facet",
+                " needs fracture.mode = branching (straight splits the paper's plane by its "
+                "normal stress (6.7))");
+  // A criterion's length given to another criterion would be ignored without a word.
+  BRITTLE_CHECK(s.fracture.epsilon == 0 ||
+                    s.fracture.criterion == FractureParams::Criterion::energy,
+                o.latest({"fracture.epsilon", "fracture.criterion"}), ": fracture.epsilon = ",
+                format_double(s.fracture.epsilon),
+                " is the energy criterion's length, which this fracture.criterion does not use "
+                "(expected fracture.criterion = energy, or no fracture.epsilon)");
+  BRITTLE_CHECK(s.fracture.length == 0 || c == C::nonlocal_facet || c == C::coupled_facet,
+                o.latest({"fracture.length", "fracture.criterion"}), ": fracture.length = ",
+                format_double(s.fracture.length),
+                " is the material length of the nonlocal and coupled facet criteria, which this "
+                "fracture.criterion does not use (expected fracture.criterion = nonlocal-facet "
+                "or coupled-facet, or no fracture.length)");
   for (const BoundaryParams& b : s.boundaries)
     BRITTLE_CHECK(
         b.region.group.empty() || lower(fs::path(s.mesh.file).extension().string()) == ".msh",

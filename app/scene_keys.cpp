@@ -334,13 +334,24 @@ const std::vector<Key>& scene_keys() {
              "reaches sigma_c) | energy (the energy of a plane's tractions within "
              "fracture.epsilon reaches 2 gamma per unit crack area; branching mode) | facet "
              "(element faces open when their traction reaches the strength; nodes split where "
-             "open faces cut their cells apart; branching mode)",
+             "open faces cut their cells apart; branching mode) | nonlocal-facet (the facet "
+             "criterion on stresses averaged over a ball of radius fracture.length; branching "
+             "mode) | coupled-facet (a face opens at its strength when the energy over a ball "
+             "of radius fracture.length reaches 2 gamma too, Leguillon; branching mode)",
              {{"nodal-stress", FP::Criterion::nodal_stress},
               {"energy", FP::Criterion::energy},
-              {"facet", FP::Criterion::facet}}));
+              {"facet", FP::Criterion::facet},
+              {"nonlocal-facet", FP::Criterion::nonlocal_facet},
+              {"coupled-facet", FP::Criterion::coupled_facet}}));
     k.push_back(field("fracture.epsilon", &Scene::fracture, &FP::epsilon, "m",
                       "the energy criterion's length: the radius of the ball whose energy a "
                       "split releases (0 = 3 x the median element size)",
+                      ">= 0", non_negative));
+    k.push_back(field("fracture.length", &Scene::fracture, &FP::length, "m",
+                      "the nonlocal facet criterion's material length l: a face's traction "
+                      "comes from stresses averaged over a ball of radius l (Bazant's bell "
+                      "weight), as the phase field's l0 or the peridynamic horizon (0 = 0.367 E "
+                      "G_c / sigma_c^2: a tip at K = sqrt(E G_c) brings the average to sigma_c)",
                       ">= 0", non_negative));
     k.push_back(field("fracture.beta", &Scene::fracture, &FP::beta, "",
                       "the facet criterion's shear weight: a face's effective traction is "

@@ -114,8 +114,8 @@ void CohesiveLinks::state(Ar& ar) {
 
 template <class Ar>
 void Fracture::state(Ar& ar) {
-  io_all(ar, plane_nodes_, root_, split_time_, hot_, hot_nodes_, splits_, crack_area_, tip_x_,
-         tip_y_, face_open_, face_traction_);
+  io_all(ar, root_, split_time_, splits_, crack_area_, tip_x_, tip_y_);
+  if (criterion_) criterion_->state(ar);  // (its own: open faces, scratch marks)
 }
 
 template <class Ar>
@@ -227,7 +227,8 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
   section("sensor", s.sensors);
   FractureParams& f = s.fracture;
   section("fracture", f.mode, f.alpha, f.n, f.speed_window_start, f.speed_edge_margin, f.region,
-          f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join, f.facet_link);
+          f.min_branch_length, f.criterion, f.epsilon, f.beta, f.track_join, f.facet_link,
+          f.length);
   DamageParams& d = s.damage;
   section("damage", d.beta1, d.beta2, d.beta3, d.Omega_d0, d.v_inf, d.v_R);
   section("run", s.run.cfl, s.run.stop_when_cut_through, s.run.step_bound, s.run.mass_scaling);
@@ -241,7 +242,7 @@ std::vector<std::pair<std::string, std::string>> scene_sections(Scene s) {
 }
 
 constexpr char kMagic[] = "brittle checkpoint\n";
-constexpr std::uint32_t kFormat = 13;  // 2: exact energy sums; 3: cut-through and colormap keys;
+constexpr std::uint32_t kFormat = 14;  // 2: exact energy sums; 3: cut-through and colormap keys;
                                        // 4: Weibull strength keys; 5: no element forces (the
                                        // next step recomputes them before any use); 6: blocks
                                        // with h_e for the two viscosities, no viscous powers;
@@ -252,7 +253,8 @@ constexpr std::uint32_t kFormat = 13;  // 2: exact energy sums; 3: cut-through a
                                        // track_join, mesh.algorithm and the facet criterion's open
                                        // faces; 11: fracture.facet_link and the faces' opening
                                        // tractions; 12: run.step_bound;
-                                       // 13: run.mass_scaling
+                                       // 13: run.mass_scaling; 14: fracture.length, the
+                                       // criterion's state after Fracture's own
 
 /// A checkpoint file read whole and checked (magic, checksum), its header parsed.
 struct CheckpointFile {

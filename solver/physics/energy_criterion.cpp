@@ -11,8 +11,47 @@
 #include <tuple>
 
 #include "error.hpp"
+#include "material.hpp"
 
 namespace brittle {
+
+namespace {
+
+/// fracture.epsilon, or 3 x the median element size when it is 0.
+double epsilon_of(const Scene& scene, const Grid& grid, const ElementData& elements) {
+  if (scene.fracture.epsilon > 0) {
+    check_length_fits(grid, "fracture.epsilon", scene.fracture.epsilon);
+    return scene.fracture.epsilon;
+  }
+  std::vector<double> h = elements.h_e;
+  BRITTLE_CHECK(!h.empty(), "fracture.criterion = energy: the mesh has no cells");
+  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+  return 3.0 * h[h.size() / 2];
+}
+
+}  // namespace
+
+EnergyCriterion::EnergyCriterion(const Scene& scene, const CriterionContext& context)
+    : EnergyCriterion(context.grid, context.elements, epsilon_of(scene, context.grid, context.elements),
+                      scene.material.E, 2.0 * scene.material.gamma, scene.material.sigma_c,
+                      plane_stress_rayleigh_speed(scene.material)) {}
+
+std::vector<SplitCandidate> EnergyCriterion::candidates(const Grid& grid,
+                                                        const ForceAssembler& forces,
+                                                        const CriterionInputs& in) {
+  const double G_min = G_c_ * (1.0 + 1e-9);  // (the same round-off margin as sigma_c's)
+  std::vector<SplitCandidate> found;
+  for (const EnergySplit& s : splits(grid, forces, G_min, in.may_break, in.split_time, in.time))
+    found.push_back({s.node, s.G, s.normal});
+  sort_in_splitting_order(found);
+  return found;
+}
+
+void EnergyCriterion::split(Grid& grid, const ForceAssembler& forces,
+                            const std::vector<SplitCandidate>& candidates,
+                            const CriterionInputs&, const SplitCells& split) {
+  for (const SplitCandidate& c : candidates) split_by_plane(grid, forces, c, split);
+}
 
 EnergyCriterion::EnergyCriterion(const Grid& grid, const ElementData& elements, double epsilon,
                                  double E, double G_c, double sigma_c, double c_R)
@@ -21,6 +60,7 @@ EnergyCriterion::EnergyCriterion(const Grid& grid, const ElementData& elements, 
       hot_stress_(std::min(std::sqrt(E * G_c / (kCalibration * epsilon)), sigma_c)),
       sigma_c_(sigma_c * (1.0 + 1e-9)),
       c_R_(c_R),
+      G_c_(G_c),
       V0_(elements.V0) {
   BRITTLE_CHECK(epsilon > 0 && E > 0 && G_c > 0 && c_R > 0,
                 "EnergyCriterion: epsilon, E, G_c and c_R must be > 0");

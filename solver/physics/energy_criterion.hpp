@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "criterion.hpp"
 #include "element_forces.hpp"
 #include "grid.hpp"
 
@@ -37,7 +38,7 @@ struct EnergySplit {
 /// x-y; a neighbour through the thickness (in-plane offset under half its distance) completes the
 /// cut on the best plane through it. A front grows no faster than the Rayleigh speed (splits()).
 /// The class keeps only caches between steps; the split times it waits on are Fracture's state.
-class EnergyCriterion {
+class EnergyCriterion : public Criterion {
  public:
   /// The calibration constant C: 1 / (the disc mean of (T+)^2_yy of the Williams mode-I
   /// field, in units of K^2 / epsilon), 1 / 0.278521.
@@ -48,8 +49,25 @@ class EnergyCriterion {
 
   EnergyCriterion(const Grid& grid, const ElementData& elements, double epsilon, double E,
                   double G_c, double sigma_c, double c_R);
+  /// fracture.criterion = energy: epsilon = fracture.epsilon, or 3 x the median element size.
+  EnergyCriterion(const Scene& scene, const CriterionContext& context);
+
+  double hot_threshold(const Grid&, const std::vector<vtkIdType>&) override { return hot_stress_; }
+  /// splits() with G_min = G_c (1 + 1e-9), in decreasing G_eps, ties by node id.
+  std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces,
+                                         const CriterionInputs& in) override;
+  /// Each candidate on its plane (split_by_plane).
+  void split(Grid& grid, const ForceAssembler& forces,
+             const std::vector<SplitCandidate>& candidates, const CriterionInputs& in,
+             const SplitCells& split) override;
+  std::string decomposed_refusal() const override {
+    // Its balls reach epsilon, wider than the one ghost layer a rank holds.
+    return "fracture.criterion = energy runs on one process for now (expected a run without "
+           "mpirun, or fracture.criterion = nodal-stress)";
+  }
 
   double epsilon() const { return epsilon_; }
+  double E() const { return E_; }
   /// The smallest largest-principal stress an element needs for a ball that holds it to
   /// reach G_c, sqrt(E G_c / (C epsilon)) (a mean never exceeds its largest term), or for a
   /// nucleation, sigma_c: the smaller.
@@ -82,6 +100,7 @@ class EnergyCriterion {
   }
 
   double epsilon_, E_, hot_stress_, sigma_c_, c_R_;
+  double G_c_ = 0;
   std::vector<double> centroid_;  // 3 per cell, reference
   std::vector<double> V0_;
   std::unordered_map<long long, std::vector<std::int32_t>> buckets_;  // cells by epsilon cube

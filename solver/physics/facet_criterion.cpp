@@ -9,11 +9,97 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <utility>
 
 namespace brittle {
 
-FacetCriterion::FacetCriterion(double beta, std::function<double(const double X[3])> strength)
-    : beta_(beta), strength_of_(std::move(strength)) {}
+FacetCriterion::FacetCriterion(const Scene& scene, const CriterionContext& context)
+    : beta_(scene.fracture.beta),
+      strength_of_(context.strength_at),
+      sigma_c_(scene.material.sigma_c),
+      traction_link_(scene.fracture.facet_link == FractureParams::FacetLink::traction) {
+  const auto faces = 4 * static_cast<std::size_t>(context.grid.num_cells());
+  face_open_.assign(faces, 0);
+  face_traction_.assign(faces, 0.0);
+  std::vector<vtkIdType> root(context.grid.num_points());
+  for (vtkIdType p = 0; p < context.grid.num_points(); ++p) root[p] = p;
+  build(context.grid, root);  // (the mesh's own nodes: every root is itself)
+}
+
+double FacetCriterion::hot_threshold(const Grid& grid, const std::vector<vtkIdType>& root) {
+  // (with a shear term the faces are all scanned: no bound from sigma1)
+  return beta_ == 0 ? weakest(grid, root) : std::numeric_limits<double>::infinity();
+}
+
+std::vector<SplitCandidate> FacetCriterion::candidates(const Grid& grid,
+                                                       const ForceAssembler& forces,
+                                                       const CriterionInputs& in) {
+  std::vector<SplitCandidate> found;
+  for (const FacetOpening& o : over(grid, forces, in.root, face_open_, in.may_break))
+    found.push_back(  // (in their order: largest ratio first)
+        {grid.cells()[o.face / 4 * 4 + (o.face + 1) % 4], o.ratio, Vec3::UnitY(), o.face});
+  return found;
+}
+
+void FacetCriterion::split(Grid& grid, const ForceAssembler& forces,
+                           const std::vector<SplitCandidate>& candidates,
+                           const CriterionInputs& in, const SplitCells& split) {
+  // Open the faces (both sides), then look at their corners on both sides: a corner may be
+  // two daughters already, one in each cell.
+  const vtkIdType* cells = grid.cells();
+  std::vector<std::pair<vtkIdType, double>> touched;  // (corner, the ratio of its face)
+  for (const SplitCandidate& c : candidates) {
+    const vtkIdType f = c.face, g = twin(f);
+    face_open_[f] = face_open_[g] = 1;
+    face_traction_[f] = face_traction_[g] = c.sigma1 * strength(f);  // (ratio x strength)
+    for (vtkIdType side : {f, g})
+      for (int k = 0; k < 4; ++k)
+        if (k != side % 4) touched.emplace_back(cells[side / 4 * 4 + k], c.sigma1);
+  }
+  std::sort(touched.begin(), touched.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.first, b.second) < std::tie(b.first, a.second);
+  });  // by node, then the largest ratio first
+  std::vector<int> group;
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    if (i > 0 && touched[i].first == touched[i - 1].first) continue;
+    const vtkIdType K = touched[i].first;
+    if (!in.may_break(K)) continue;
+    const int n = groups(forces, face_open_, K, group);
+    if (n < 2) continue;
+    std::vector<std::vector<vtkIdType>> of_group(n);
+    const vtkIdType start = forces.node_start()[K];
+    for (std::size_t k = 0; k < group.size(); ++k)
+      of_group[group[k]].push_back(forces.node_entries()[start + k] / 4);
+    for (int g = 1; g < n; ++g)  // the first group keeps K (entries are in cell order)
+      split(K, std::move(of_group[g]), touched[i].second);
+  }
+}
+
+double FacetCriterion::link_force(const std::vector<CrackFace>& faces) const {
+  if (!traction_link_) return std::numeric_limits<double>::quiet_NaN();
+  double f0 = 0;
+  for (const CrackFace& c : faces) {
+    const vtkIdType f = face_between(c.cell_a, c.cell_b);
+    f0 += (f >= 0 ? face_traction_[f] : sigma_c_) * 0.5 * c.area;
+  }
+  return f0;
+}
+
+void FacetCriterion::state(StateWriter& ar) { io_all(ar, face_open_, face_traction_); }
+void FacetCriterion::state(StateReader& ar) { io_all(ar, face_open_, face_traction_); }
+
+void FacetCriterion::recut(const Criterion& src, const std::vector<vtkIdType>& cell_from,
+                           vtkIdType) {
+  const auto& from = static_cast<const FacetCriterion&>(src);  // (the same scene's criterion)
+  face_open_.assign(4 * cell_from.size(), 0);  // faces by their cell and corner
+  face_traction_.assign(4 * cell_from.size(), 0.0);
+  for (std::size_t e = 0; e < cell_from.size(); ++e)
+    if (const vtkIdType s = cell_from[e]; s >= 0) {
+      std::copy_n(from.face_open_.begin() + 4 * s, 4, face_open_.begin() + 4 * e);
+      std::copy_n(from.face_traction_.begin() + 4 * s, 4, face_traction_.begin() + 4 * e);
+    }
+  reset();  // (cells renumbered)
+}
 
 void FacetCriterion::build(const Grid& grid, const std::vector<vtkIdType>& root) {
   const vtkIdType nc = grid.num_cells();
@@ -68,27 +154,8 @@ std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAsse
                                                const std::function<bool(vtkIdType)>& may_open) {
   if (across_.size() != 4 * static_cast<std::size_t>(grid.num_cells())) build(grid, root);
   const vtkIdType* cells = grid.cells();
-  const double *x = grid.x(), *stress = grid.stress();
-  // The faces to look at, each once (by the id of its side in the smaller cell): with beta = 0
-  // a face over its strength has a cell whose sigma1 bound reached the weakest strength (t_n
-  // of the mean is at most the mean's sigma1, at most the larger bound), which the element
-  // loop listed; otherwise every interior face.
-  faces_.clear();
-  const auto add = [&](vtkIdType e) {
-    for (int j = 0; j < 4; ++j) {
-      const vtkIdType f = 4 * e + j, n = across_[f];
-      if (n >= 0 && !open[f]) faces_.push_back(n > e ? f : twin_[f]);
-    }
-  };
-  if (beta_ == 0 && forces.collects_hot_cells()) {
-    forces.for_each_hot_cell(add);
-    std::sort(faces_.begin(), faces_.end());
-    faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
-  } else {
-    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
-      for (int j = 0; j < 4; ++j)
-        if (const vtkIdType f = 4 * e + j; across_[f] > e && !open[f]) faces_.push_back(f);
-  }
+  const double* x = grid.x();
+  const double* stress = gather(grid, forces, open);
   const double inv_beta2 = beta_ > 0 ? 1.0 / (beta_ * beta_) : 0.0;
   const auto count = static_cast<std::int64_t>(faces_.size());
   std::vector<FacetOpening> found;
@@ -130,6 +197,25 @@ std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAsse
     return std::tie(b.ratio, a.face) < std::tie(a.ratio, b.face);
   });
   return found;
+}
+
+const double* FacetCriterion::gather(const Grid& grid, const ForceAssembler& forces,
+                                     const std::vector<std::uint8_t>& open) {
+  // The faces to look at, each once (by the id of its side in the smaller cell): with beta = 0
+  // a face over its strength has a cell whose sigma1 bound reached the weakest strength (t_n
+  // of the mean is at most the mean's sigma1, at most the larger bound), which the element
+  // loop listed; otherwise every interior face.
+  faces_.clear();
+  if (beta_ == 0 && forces.collects_hot_cells()) {
+    forces.for_each_hot_cell([&](vtkIdType e) { add_faces_of(e, open); });
+    std::sort(faces_.begin(), faces_.end());
+    faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
+  } else {
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+      for (int j = 0; j < 4; ++j)
+        if (const vtkIdType f = 4 * e + j; across_[f] > e && !open[f]) faces_.push_back(f);
+  }
+  return grid.stress();
 }
 
 int FacetCriterion::groups(const ForceAssembler& forces, const std::vector<std::uint8_t>& open,

@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "criterion.hpp"
 #include "element_forces.hpp"
 #include "grid.hpp"
 
@@ -22,16 +23,17 @@ struct FacetOpening {
 };
 
 /// Faces of the tets: which cell lies across each, each interior face's strength, and the
-/// open ones (Fracture's state). Face 4 e + j is opposite corner j of cell e; splits rename
-/// corners in place, so a face keeps its id for the whole run.
+/// open ones (its state). Face 4 e + j is opposite corner j of cell e; splits rename corners
+/// in place, so a face keeps its id for the whole run.
 ///
 /// Effective traction (Camacho & Ortiz 1996, eq. 27): t = T n with T the mean of the two
 /// cells' stresses and n the face's current unit normal, t_n = n . t, t_s = |t - t_n n|;
 /// t_eff = sqrt(<t_n>^2 + t_s^2 / beta^2), and beta = 0 counts t_n alone (Akantu's default).
-class FacetCriterion {
+class FacetCriterion : public Criterion {
  public:
-  /// strength(face_centroid X) gives a face's strength from its reference centroid.
-  FacetCriterion(double beta, std::function<double(const double X[3])> strength);
+  /// fracture.criterion = facet: fracture.beta, fracture.facet_link, the strengths of the
+  /// material; the face tables of the grid.
+  FacetCriterion(const Scene& scene, const CriterionContext& context);
 
   double beta() const { return beta_; }
   /// The weakest face's strength (the element loop's hot threshold when beta = 0: t_n of the
@@ -66,17 +68,65 @@ class FacetCriterion {
              std::vector<int>& group) const;
 
   /// Forgets the face tables (after a re-cut renumbers cells); rebuilt on next use.
-  void reset() { across_.clear(); }
+  virtual void reset() { across_.clear(); }
+
+  // The Criterion interface
+  /// The weakest strength with beta = 0, else infinite (every face is scanned).
+  double hot_threshold(const Grid& grid, const std::vector<vtkIdType>& root) override;
+  /// over() on the open faces so far: a candidate per face (node: a corner of it).
+  std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces,
+                                         const CriterionInputs& in) override;
+  /// Opens the candidates' faces, then splits each of their corners whose cells the open
+  /// faces cut into groups: every group but the first adopts a new node.
+  void split(Grid& grid, const ForceAssembler& forces,
+             const std::vector<SplitCandidate>& candidates, const CriterionInputs& in,
+             const SplitCells& split) override;
+  /// fracture.facet_link = traction: sum over the faces of t_open x (area / 3), t_open the
+  /// traction its face opened at (Akantu's extrinsic insertion); imbalance: NaN, (2.6).
+  double link_force(const std::vector<CrackFace>& faces) const override;
+  void state(StateWriter& ar) override;
+  void state(StateReader& ar) override;
+  void recut(const Criterion& src, const std::vector<vtkIdType>& cell_from,
+             vtkIdType num_points) override;
+  std::string decomposed_refusal() const override {
+    // A face between two ranks' cells, and the groups of a node's cells, are not exchanged.
+    return "fracture.criterion = " + name_ +
+           " runs on one process for now (expected a run without mpirun, or "
+           "fracture.criterion = nodal-stress)";
+  }
+
+  /// Per face 4 e + j: open (1) or not, and the effective traction it opened at [Pa].
+  const std::vector<std::uint8_t>& open_faces() const { return face_open_; }
+
+ protected:
+  /// The faces over() looks at this step into faces_ (each once, by its side in the smaller
+  /// cell, ascending), and the stresses of the cells it reads (6 per cell, xx yy zz xy yz xz):
+  /// the cells' own, T_e. One call per step.
+  virtual const double* gather(const Grid& grid, const ForceAssembler& forces,
+                               const std::vector<std::uint8_t>& open);
+  /// The faces of cell e that are closed and interior, appended to faces_.
+  void add_faces_of(vtkIdType e, const std::vector<std::uint8_t>& open) {
+    for (int j = 0; j < 4; ++j) {
+      const vtkIdType f = 4 * e + j, n = across_[f];
+      if (n >= 0 && !open[f]) faces_.push_back(n > e ? f : twin_[f]);
+    }
+  }
+
+  std::string name_ = "facet";
+  std::vector<vtkIdType> across_, twin_;  // 4 per cell
+  std::vector<vtkIdType> faces_;          // scratch of over()
 
  private:
   void build(const Grid& grid, const std::vector<vtkIdType>& root);
 
   double beta_;
   std::function<double(const double X[3])> strength_of_;
-  std::vector<vtkIdType> across_, twin_;  // 4 per cell
   std::vector<double> strength_;          // 4 per cell (both sides of a face: the same)
   double weakest_ = 0;
-  std::vector<vtkIdType> faces_;  // scratch of over()
+  double sigma_c_ = 0;                    // a link face with no face of its own (link_force)
+  bool traction_link_ = false;            // fracture.facet_link = traction
+  std::vector<std::uint8_t> face_open_;   // 4 per cell, face 4 e + j open (both sides)
+  std::vector<double> face_traction_;     // the effective traction it opened at [Pa]
 };
 
 }  // namespace brittle

@@ -7,23 +7,12 @@
 #include <vector>
 
 #include "cohesive.hpp"
+#include "criterion.hpp"
 #include "element_forces.hpp"
-#include "energy_criterion.hpp"
-#include "facet_criterion.hpp"
 #include "grid.hpp"
 #include "scene.hpp"
 
 namespace brittle {
-
-/// A node over the criterion this step: its sigma1 and the normal of its split plane. The
-/// facet criterion's candidates are faces that open (face >= 0, sigma1 = its effective
-/// traction over its strength; node: a corner).
-struct SplitCandidate {
-  vtkIdType node = -1;
-  double sigma1 = 0;
-  Vec3 normal = Vec3::UnitY();
-  vtkIdType face = -1;
-};
 
 /// What a split did, for tests and trackers.
 struct SplitRecord {
@@ -36,28 +25,24 @@ struct SplitRecord {
   std::vector<vtkIdType> b_cells;  ///< the cells that adopted b, ascending
 };
 
-/// Decides which nodes break and splits them; the links it makes live in CohesiveLinks.
+/// Makes the splits its criterion (fracture.criterion, criterion.hpp) asks for; the links it
+/// makes live in CohesiveLinks.
 class Fracture {
  public:
   Fracture(const Scene& scene, const Grid& grid, const ElementData& elements, CohesiveLinks& links);
 
-  /// Nodes over the criterion (fracture.criterion) with the element stresses of the last force
-  /// computation, in splitting order: decreasing sigma1 (the energy criterion: G_eps), ties by
-  /// node id.
-  std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces) const;
+  /// What is over the criterion (fracture.criterion) with the element stresses of the last
+  /// force computation, in splitting order (the node criteria: decreasing sigma1 or G_eps,
+  /// ties by node id; the facet criteria: faces by decreasing ratio, ties by face id).
+  std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces);
 
-  /// The smallest strength a node of the grid has (sigma_c, or the weakest Weibull strength):
-  /// the element loop lists the cells whose bound reaches it (ForceAssembler::
-  /// set_hot_threshold). Infinite unless the mode is branching (straight scans its plane).
-  double hot_threshold(const Grid& grid) const;
+  /// The threshold the element loop lists cells at (ForceAssembler::set_hot_threshold): the
+  /// criterion's; infinite without one.
+  double hot_threshold(const Grid& grid);
 
-  /// Splits the candidates in order (SPEC 5): plane through the node normal to the
-  /// candidate's direction; cells whose current centroid lies on its + side adopt a new node.
-  /// The facet criterion opens the candidates' faces, then splits each of their corners whose
-  /// cells the open faces cut into groups: every group but the first adopts a new node.
-  /// Makes the link of each split (2.6) and cuts the links the node held (Appendix A). Then
-  /// rebuilds the force assembler's node table, so its nodal forces are those of the new
-  /// topology.
+  /// Makes the splits the criterion asks for from the candidates (SPEC 5): each gives the
+  /// link of its split (2.6) and cuts the links the node held (Appendix A); the force
+  /// assembler's node table follows each split.
   std::vector<SplitRecord> split(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                                  const std::vector<SplitCandidate>& candidates);
 
@@ -85,7 +70,9 @@ class Fracture {
   /// Crack tip: the split node with the largest reference x (SPEC 5); NaN before any split.
   double tip_x() const { return tip_x_; }
   double tip_y() const { return tip_y_; }
-  bool enabled() const { return mode_ != FractureParams::Mode::none; }
+  bool enabled() const { return criterion_ != nullptr; }
+  /// The criterion (nullptr with fracture.mode = none).
+  const Criterion* criterion() const { return criterion_.get(); }
   /// The time of the step whose splits come next (the integrator sets it before candidates).
   void set_time(double t) { time_ = t; }
   /// Per node: the time it split (both daughters), NaN if it has not.
@@ -102,20 +89,10 @@ class Fracture {
   void recut(const Fracture& src, const Recut& r);
 
  private:
-  bool split_one(Grid& grid, const ElementData& elements, ForceAssembler& forces,
-                 const SplitCandidate& c, SplitRecord& record);
   /// K's cells `b_cells` (ascending, some but not all of K's) adopt a new node: masses, forces,
   /// crack faces and the link (2.3), (2.6), Appendix A.
   void split_cells(Grid& grid, const ElementData& elements, ForceAssembler& forces, vtkIdType K,
                    std::vector<vtkIdType> b_cells, double sigma1, SplitRecord& r);
-  /// The facet criterion's split(): opens the faces, splits the nodes they cut.
-  std::vector<SplitRecord> split_facets(Grid& grid, const ElementData& elements,
-                                        ForceAssembler& forces,
-                                        const std::vector<SplitCandidate>& candidates);
-
-  /// The energy criterion's candidates (fracture.criterion = energy).
-  std::vector<SplitCandidate> energy_candidates(const Grid& grid,
-                                                const ForceAssembler& forces) const;
 
   /// The bookkeeping of a split of K whose new node was just appended: its root, and both
   /// daughters' split time.
@@ -123,30 +100,18 @@ class Fracture {
 
   /// Inside fracture.region (or no region given): the node may break.
   bool may_break(const Grid& grid, vtkIdType p) const;
-
-  FractureParams::Mode mode_;
-  std::vector<double> region_;
-  double sigma_c_, rho0_, G_c_;
-  mutable std::unique_ptr<EnergyCriterion> energy_;  // fracture.criterion = energy
-  mutable std::unique_ptr<FacetCriterion> facet_;    // fracture.criterion = facet
-  std::vector<std::uint8_t> face_open_;  // facet: 4 per cell, face 4 e + j open (both sides)
-  std::vector<double> face_traction_;    // facet: the effective traction it opened at [Pa]
-  bool traction_link_ = false;           // fracture.facet_link = traction
   /// sigma_c, or the Weibull sample of the point X (strength()).
   double strength_at(const double X[3]) const;
+
+  std::vector<double> region_;
+  double sigma_c_, rho0_;
   double weibull_m_ = 0, weibull_scale_ = 0;
   std::uint64_t strength_seed_ = 0;
-  /// Per-node strengths (heterogeneous runs), extended to new nodes as they appear: a cache
-  /// of strength(), rebuilt from the reference positions after a restore.
-  mutable std::vector<double> node_strength_;
-  const double* strengths(const Grid& grid) const;
   CohesiveLinks& links_;
-  std::vector<vtkIdType> plane_nodes_;  // straight mode: nodes on y = 0 with x >= a
+  std::unique_ptr<Criterion> criterion_;  // nullptr: fracture.mode = none
   std::vector<vtkIdType> root_;  // the original node every node descends from
   std::vector<double> split_time_;  // per node: when it split (NaN: never)
   double time_ = 0;
-  mutable std::vector<std::uint8_t> hot_;     // scratch of candidates(): corner of a hot cell
-  mutable std::vector<vtkIdType> hot_nodes_;  // the nodes so marked, ascending
   long splits_ = 0;
   bool count_splits_ = true;
   double crack_area_ = 0;

@@ -105,9 +105,15 @@ struct FractureParams {
   /// energy, the energy of a plane's tractions over a ball of radius epsilon against 2 gamma;
   /// facet, faces open when their traction reaches the strength, nodes split where open faces
   /// cut their cells apart.
-  enum class Criterion { nodal_stress, energy, facet };
+  /// nonlocal_facet, the facet criterion on stresses averaged over a ball of radius length;
+  /// coupled_facet, a face opens at its strength if the energy over a ball of radius length
+  /// reaches 2 gamma too (Leguillon).
+  enum class Criterion { nodal_stress, energy, facet, nonlocal_facet, coupled_facet };
   Criterion criterion = Criterion::nodal_stress;
   double epsilon = 0.0;  ///< the energy criterion's length [m]; 0 = 3 x the median element size
+  /// The nonlocal facet criterion's material length l [m]: stresses are averaged over a ball
+  /// of radius l (Bazant's bell); 0 = 0.367 E G_c / sigma_c^2 (nonlocal_facet_criterion.hpp).
+  double length = 0.0;
   /// The facet criterion's shear weight: t_eff = sqrt(<t_n>^2 + t_s^2 / beta^2); 0 = t_n alone.
   double beta = 0.0;
   /// The facet criterion's link strength: traction, Akantu's extrinsic insertion (f0 = the

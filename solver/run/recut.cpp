@@ -167,19 +167,8 @@ void Fracture::recut(const Fracture& src, const Recut& r) {
       root_[p] = renamed(r.node_to, src.root_[s], "root node");
       split_time_[p] = src.split_time_[s];
     }
-  hot_.assign(r.node_from.size(), 0);  // scratch of candidates()
-  hot_nodes_.clear();
-  node_strength_.clear();  // drawn again for the new node ids
-  if (!src.face_open_.empty()) {  // (facet criterion) faces by their cell and corner
-    face_open_.assign(4 * r.cell_from.size(), 0);
-    face_traction_.assign(4 * r.cell_from.size(), 0.0);
-    for (std::size_t e = 0; e < r.cell_from.size(); ++e)
-      if (const vtkIdType s = r.cell_from[e]; s >= 0) {
-        std::copy_n(src.face_open_.begin() + 4 * s, 4, face_open_.begin() + 4 * e);
-        std::copy_n(src.face_traction_.begin() + 4 * s, 4, face_traction_.begin() + 4 * e);
-      }
-  }
-  if (facet_) facet_->reset();  // (cells renumbered)
+  if (criterion_ && src.criterion_)
+    criterion_->recut(*src.criterion_, r.cell_from, static_cast<vtkIdType>(r.node_from.size()));
   splits_ = src.splits_;   // every rank counts every split (count_split)
   crack_area_ = src.crack_area_;
   tip_x_ = src.tip_x_, tip_y_ = src.tip_y_;

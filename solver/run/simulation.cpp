@@ -114,6 +114,8 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                 " steps, more than ", kMaxSteps,
                 " (expected a larger run.cfl, a shorter run.end_time or less viscosity)");
   assembler_.set_hot_threshold(fracture_.hot_threshold(grid_));  // the split scan's cells
+  if (const Criterion* c = fracture_.criterion(); c && !c->warning().empty())
+    step_warnings_.push_back(c->warning());  // (printed with the first step's)
   const vtkIdType bad = assembler_.compute(grid_);
   BRITTLE_CHECK(bad < 0, "initial state: element ", bad, " is inverted after the pre-stress");
   // The plate's outline for the cut-through check: a rank's part of a decomposed run carries
@@ -149,16 +151,10 @@ CrackFronts Simulation::make_crack_fronts() const {
 
 void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
-  // Its balls reach epsilon, wider than the one ghost layer a rank holds.
-  BRITTLE_CHECK(scene_.fracture.criterion != FractureParams::Criterion::energy ||
-                    scene_.fracture.mode != FractureParams::Mode::branching,
-                "fracture.criterion = energy runs on one process for now (expected a run "
-                "without mpirun, or fracture.criterion = nodal-stress)");
-  // A face between two ranks' cells, and the groups of a node's cells, are not exchanged.
-  BRITTLE_CHECK(scene_.fracture.criterion != FractureParams::Criterion::facet ||
-                    scene_.fracture.mode != FractureParams::Mode::branching,
-                "fracture.criterion = facet runs on one process for now (expected a run "
-                "without mpirun, or fracture.criterion = nodal-stress)");
+  if (const Criterion* c = fracture_.criterion()) {
+    const std::string why = c->decomposed_refusal();
+    BRITTLE_CHECK(why.empty(), why);
+  }
   // The nodal sums need every cell at a node, a rank holds one ghost layer of them.
   BRITTLE_CHECK(scene_.run.step_bound == RunParams::StepBound::altitude,
                 "run.step_bound = nodal runs on one process for now (expected a run without "
