@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "crack_pattern.hpp"
 #include "crack_tip.hpp"
 #include "error.hpp"
 #include "jitter.hpp"
@@ -320,6 +321,69 @@ TEST(CrackFronts, RejectsBadInput) {
   EXPECT_THROW(fronts.on_split(0.5e-6, 0, 0), Error);
   EXPECT_THROW(fronts.on_split(2e-6, NAN, 0), Error);
   EXPECT_THROW(fronts.speed(5), Error);
+}
+
+// The fork rule (pattern.json "fork", `brittle study ensemble`; docs/crack_pattern.md): the
+// first branching point whose two arms' lines are each at least min_length long.
+TEST(Fork, YBranchIsAForkWithItsArmsAndTheirReach) {
+  CrackFronts fronts(join, separation);
+  fronts.add_seed(10e-3, 0, 1, 0);
+  feed(fronts, y_branch());
+  const Fork f = find_fork(fronts, 4e-3);
+  ASSERT_TRUE(f.found);
+  const BranchingEvent& e = fronts.branchings()[0];
+  EXPECT_EQ(f.x, e.x);
+  EXPECT_EQ(f.t, e.t);
+  EXPECT_EQ(f.angle_deg, e.angle_deg);
+  for (const Fork::Arm& a : f.arms) {
+    EXPECT_NEAR(a.length, 60 * h, join);  // 30 mm each
+    EXPECT_NEAR(a.x, 50e-3 + 60 * h * std::cos(pi / 12), join);
+    EXPECT_EQ(a.reach_x, a.x);
+  }
+  EXPECT_GT(f.arms[0].y, 0);  // counter-clockwise first
+  EXPECT_LT(f.arms[1].y, 0);
+}
+
+// A planted pair: the same stem with one arm 3 mm long is a fork when branches need 2 mm and
+// not when they need 4 mm (a side crack, not a Y).
+TEST(Fork, AShortArmIsNoFork) {
+  const double v = 1500;
+  std::vector<Split> s = line(0, 10e-3, 0, 0, v, 80);
+  const double tb = s.back().t;
+  const auto plus = line(tb, 50e-3, 0, 15, v, 6), minus = line(tb, 50e-3, 0, -15, v, 60);
+  s.insert(s.end(), plus.begin(), plus.end());
+  s.insert(s.end(), minus.begin(), minus.end());
+  CrackFronts fronts(join, separation);
+  fronts.add_seed(10e-3, 0, 1, 0);
+  feed(fronts, in_order(s));
+  ASSERT_EQ(fronts.branchings().size(), 1u);
+  EXPECT_FALSE(find_fork(fronts, 4e-3).found);
+  EXPECT_TRUE(find_fork(fronts, 2e-3).found);
+}
+
+// An arm that branches again: its line goes on through the longer of its own arms, and its
+// reach is the farthest head of them all.
+TEST(Fork, AnArmsLineGoesOnThroughItsOwnArms) {
+  const double v = 1500;
+  std::vector<Split> s = line(0, 10e-3, 0, 0, v, 80);
+  auto plus = line(s.back().t, 50e-3, 0, 15, v, 20);
+  const auto minus = line(s.back().t, 50e-3, 0, -15, v, 80);
+  const Split b = plus.back();
+  const auto up = line(b.t, b.x, b.y, 35, v, 40), on = line(b.t, b.x, b.y, 0, v, 60);
+  for (const auto* arm : {&up, &on, &minus}) s.insert(s.end(), arm->begin(), arm->end());
+  s.insert(s.end(), plus.begin(), plus.end());
+  CrackFronts fronts(join, separation);
+  fronts.add_seed(10e-3, 0, 1, 0);
+  feed(fronts, in_order(s));
+  ASSERT_EQ(fronts.branchings().size(), 2u);
+  const Fork f = find_fork(fronts, 4e-3);
+  ASSERT_TRUE(f.found);
+  EXPECT_EQ(f.t, fronts.branchings()[0].t);
+  // The + arm: 10 mm to the second branch point, then the 30 mm arm along x.
+  EXPECT_NEAR(f.arms[0].length, 20 * h + 60 * h, 2 * join);
+  EXPECT_NEAR(f.arms[0].x, b.x + 60 * h, join);
+  EXPECT_NEAR(f.arms[0].reach_x, b.x + 60 * h, join);
+  EXPECT_NEAR(f.arms[1].length, 80 * h, join);
 }
 
 }  // namespace

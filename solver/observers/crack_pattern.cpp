@@ -96,6 +96,45 @@ double chord_speed(const TipTrack& t) {
 
 }  // namespace
 
+Fork find_fork(const CrackFronts& fronts, double min_length) {
+  const std::vector<TipTrack>& tips = fronts.tips();
+  // The longest line from each tip on through its arms, and the farthest x of its heads:
+  // arms are born after their parent (higher ids), so a pass from the last tip down has
+  // folded every arm's line into line[i] before tip i adds its own arc.
+  std::vector<double> line(tips.size(), 0.0), reach(tips.size(), 0.0);
+  std::vector<int> end(tips.size(), -1);
+  for (std::size_t i = tips.size(); i-- > 0;) {
+    const TipTrack& t = tips[i];
+    const TipSample head = fronts.head(t.id);
+    line[i] += t.arc.empty() ? 0.0 : t.arc.back();
+    reach[i] = std::max(reach[i], head.x);
+    if (end[i] < 0) end[i] = static_cast<int>(i);
+    if (t.parent >= 0 && t.origin == TipTrack::Origin::branch) {
+      const auto p = static_cast<std::size_t>(t.parent);
+      if (end[p] < 0 || line[i] > line[p]) line[p] = line[i], end[p] = end[i];
+      reach[p] = std::max(reach[p], reach[i]);
+    }
+  }
+  Fork f;
+  const BranchingEvent* first = nullptr;
+  for (const BranchingEvent& b : fronts.branchings()) {
+    if (b.child_a < 0 || b.child_b < 0) continue;
+    if (line[b.child_a] < min_length || line[b.child_b] < min_length) continue;
+    if (!first || b.t < first->t) first = &b;
+  }
+  if (!first) return f;
+  f.found = true;
+  f.t = first->t, f.x = first->x, f.y = first->y, f.angle_deg = first->angle_deg;
+  int k = 0;
+  for (int arm : {first->child_a, first->child_b}) {
+    Fork::Arm& a = f.arms[k++];
+    const TipSample head = fronts.head(tips[end[arm]].id);
+    a.tip = arm, a.length = line[arm], a.reach_x = reach[arm];
+    a.t = head.t, a.x = head.x, a.y = head.y;
+  }
+  return f;
+}
+
 CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEvent>& events,
                            const std::vector<TipSample>& tips, double T, double min_length,
                            double rayleigh_speed) {
@@ -149,6 +188,7 @@ CrackPattern crack_pattern(const CrackFronts& fronts, const std::vector<CrackEve
     else ++p.link_failures, p.failure_energy += e.energy;
   }
   p.distribution = energy_distribution(events);
+  p.fork = find_fork(fronts, min_length);
   // Area made by the splits up to each tip sample (events and samples are both in time order).
   std::size_t next = 0;
   double area = 0;
@@ -228,6 +268,20 @@ void write_pattern(const std::string& directory, const CrackPattern& p) {
   j["spurs"] = p.spurs;
   j["min_branch_length"] = number(p.min_length);
   add_branchings_json(j, "branching_points", p.branchings, p.nucleations);
+  if (p.fork.found) {
+    const Fork& f = p.fork;
+    nlohmann::ordered_json fork = {{"t", number(f.t)}, {"x", number(f.x)}, {"y", number(f.y)},
+                                   {"angle_deg", number(f.angle_deg)}};
+    fork["arms"] = nlohmann::ordered_json::array();
+    for (const Fork::Arm& a : f.arms)
+      fork["arms"].push_back({{"tip", a.tip},
+                              {"length", number(a.length)},
+                              {"head", {number(a.t), number(a.x), number(a.y)}},
+                              {"reach_x", number(a.reach_x)}});
+    j["fork"] = fork;
+  } else {
+    j["fork"] = nullptr;
+  }
   j["tips"] = nlohmann::ordered_json::array();
   for (const Branch& b : p.branches)
     j["tips"].push_back({{"tip", b.tip},

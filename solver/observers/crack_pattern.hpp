@@ -60,6 +60,26 @@ struct EnergyDistribution {
 /// The distribution of the link-failure events of a catalogue.
 EnergyDistribution energy_distribution(const std::vector<CrackEvent>& events);
 
+/// The crack's fork (docs/crack_pattern.md, "The fork"): the first branching point, in time,
+/// both of whose arms are branches: each arm's line (its track, then on through the longest
+/// line of the arms it branched into in turn) at least min_length long. The one rule for
+/// pattern.json's "fork" and `brittle study ensemble`.
+struct Fork {
+  bool found = false;
+  double t = 0, x = 0, y = 0;  ///< the branching point and when the parent reached it
+  double angle_deg = 0;        ///< between the two arms over their first `separation`
+  struct Arm {
+    int tip = -1;
+    double length = 0;             ///< path length of the arm's line [m]
+    double t = 0, x = 0, y = 0;    ///< the head of that line
+    double reach_x = 0;            ///< the largest x any head of the arm or its arms reached
+  };
+  Arm arms[2];  ///< counter-clockwise first (child_a)
+};
+
+/// The fork of a tracker's tips by the rule above (min_length: the pattern's).
+Fork find_fork(const CrackFronts& fronts, double min_length);
+
 struct CrackPattern {
   double min_length = 0;        ///< branches shorter than this are spurs, not branches [m]
   double join = 0, separation = 0;  ///< the tracker's distances (docs/crack_fronts.md)
@@ -75,6 +95,7 @@ struct CrackPattern {
   double split_area = 0;        ///< sum of the splits' A_c [m^2]
   double failure_energy = 0;    ///< sum of the link failures' energies [J]
   EnergyDistribution distribution;
+  Fork fork;
 };
 
 /// The pattern of a run: `fronts` built from the splits of `events` (or the run's own), the
