@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <map>
 #include <thread>
@@ -117,6 +118,31 @@ std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs
   std::vector<ChildStart> outcome;
   for (const int s : started) outcome.push_back(static_cast<ChildStart>(s));
   return outcome;
+}
+
+std::optional<nlohmann::json> read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+bool finished_same_run(const ChildRun& run) {
+  const auto summary = read_json(run.directory + "/summary.json");
+  if (!summary || summary->value("status", std::string()) != "completed") return false;
+  std::vector<std::string> sources;
+  for (std::size_t i = 1; i < run.args.size(); ++i) {  // args[0] is "run"
+    if (run.args[i] == "--out") break;
+    if (run.args[i] == "--set" && i + 1 < run.args.size())
+      sources.push_back("--set " + run.args[++i]);
+    else
+      sources.push_back(run.args[i]);
+  }
+  const auto it = summary->find("scene_sources");
+  return it != summary->end() && it->is_array() && *it == nlohmann::json(sources);
 }
 
 }  // namespace brittle

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace brittle {
 
@@ -33,5 +36,13 @@ enum class ChildStart { stopped = 0, started = 1, held = 2 };
 /// all ranks wait for each other at the end. Returns, per entry, what became of it (on any
 /// rank).
 std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs);
+
+/// The JSON in `path`, or nothing when it is missing or not JSON.
+std::optional<nlohmann::json> read_json(const std::string& path);
+
+/// Whether the run's directory holds a completed run of exactly these arguments: its
+/// summary's scene sources (files, then "--set k=v" in order) equal the planned ones (a
+/// batch's --reuse).
+bool finished_same_run(const ChildRun& run);
 
 }  // namespace brittle

@@ -44,6 +44,7 @@ const char* kUsage =
     "  analyze RUN_DIR                      crack pattern and acoustic emission of a run\n"
     "  sweep SCENE.ini ... --loads 0.4:1.0:0.05   one run per load, crack speeds\n"
     "  study mesh SCENE.ini ... --sizes 1e-3,500e-6   the mesh-size study\n"
+    "  study ensemble SCENE.ini ... --vary mesh|strength|steps   N members: fork rate, medians\n"
     "  chart SWEEP_DIR[=LABEL] ...          crack speed against W of finished sweeps\n"
     "  tips RUN_DIR[=LABEL] ...             tip speed against time of finished runs\n"
     "  figure SCENE.ini [MORE.ini ...]      the paper's Figs. 7-10 for a scene\n"

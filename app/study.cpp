@@ -24,6 +24,7 @@
 #include "isolated_read.hpp"
 #include "child_runs.hpp"
 #include "command_line.hpp"
+#include "ensemble.hpp"
 #include "error.hpp"
 #include "lists.hpp"
 #include "output.hpp"
@@ -119,37 +120,6 @@ std::vector<PlannedRun> plan_runs(const MeshStudyOptions& o, const std::vector<S
     }
   }
   return plan;
-}
-
-/// The JSON in `path`, or nothing when it is missing or not JSON.
-std::optional<nlohmann::json> read_json(const std::string& path);
-
-/// Whether the run's directory holds a completed run of exactly these arguments: its
-/// summary's scene sources (files, then "--set k=v" in order) equal the planned ones.
-bool finished_same_run(const ChildRun& run) {
-  const auto summary = read_json(run.directory + "/summary.json");
-  if (!summary || summary->value("status", std::string()) != "completed") return false;
-  std::vector<std::string> sources;
-  for (std::size_t i = 1; i < run.args.size(); ++i) {  // args[0] is "run"
-    if (run.args[i] == "--out") break;
-    if (run.args[i] == "--set" && i + 1 < run.args.size())
-      sources.push_back("--set " + run.args[++i]);
-    else
-      sources.push_back(run.args[i]);
-  }
-  const auto it = summary->find("scene_sources");
-  return it != summary->end() && it->is_array() && *it == nlohmann::json(sources);
-}
-
-/// The JSON in `path`, or nothing when it is missing or not JSON.
-std::optional<nlohmann::json> read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
 }
 
 /// A number at `key`, NaN when missing or null.
@@ -534,8 +504,10 @@ int study_command(const std::vector<std::string>& args) {
     print_command_help(asked_help ? std::cout : std::cerr, usage, about, opts);
     return asked_help ? 0 : 2;
   }
+  if (args[0] == "ensemble") return ensemble_command({args.begin() + 1, args.end()});
   BRITTLE_CHECK(args[0] == "mesh", "brittle study: unknown study '", args[0],
-                "' (expected: brittle study mesh SCENE.ini ... --sizes LIST)");
+                "' (expected: brittle study mesh SCENE.ini ... --sizes LIST, or brittle study "
+                "ensemble SCENE.ini ... --vary mesh|strength|steps)");
   auto vm = parse_command_line({args.begin() + 1, args.end()}, opts, hidden, "scene");
   if (vm.count("help")) {
     print_command_help(std::cout, usage, about, opts);

@@ -75,15 +75,16 @@ void write_chart_png(const std::string& path, const ChartAxes& axes,
     vtkPlot* plot = chart->AddPlot(s.style == ChartSeries::Style::points ? vtkChart::POINTS
                                                                           : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
-    plot->SetColor(s.color[0], s.color[1], s.color[2], 255);
+    plot->SetColor(s.color[0], s.color[1], s.color[2], s.alpha);
     plot->SetLabel(s.name);
+    if (!s.legend) plot->SetLegendVisibility(false);
     if (s.style == ChartSeries::Style::points) {
       static const int markers[] = {vtkPlotPoints::CIRCLE, vtkPlotPoints::SQUARE,
                                     vtkPlotPoints::DIAMOND, vtkPlotPoints::CROSS,
                                     vtkPlotPoints::PLUS};
       auto* points = vtkPlotPoints::SafeDownCast(plot);
       points->SetMarkerStyle(markers[s.marker % 5]);
-      points->SetMarkerSize(10);
+      points->SetMarkerSize(static_cast<float>(s.marker_size));
     } else {
       plot->SetWidth(2.0);
       if (s.style == ChartSeries::Style::dashed) plot->GetPen()->SetLineType(vtkPen::DASH_LINE);

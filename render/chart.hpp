@@ -15,6 +15,9 @@ struct ChartSeries {
   Style style = Style::points;
   std::array<unsigned char, 3> color = {0, 0, 0};
   int marker = 0;                 ///< points: 0 circle, 1 square, 2 diamond, 3 cross, 4 plus
+  unsigned char alpha = 255;      ///< opacity (faint overlays: many series on one another)
+  double marker_size = 10;        ///< points: in pixels
+  bool legend = true;             ///< false: no legend entry
 };
 
 struct ChartAxes {
