@@ -67,6 +67,34 @@ void expect_run_fails(const TempDir& dir, const std::string& ini, const std::str
 
 }  // namespace
 
+// A criterion's length that nothing can use is refused with one line (issue 51): given to a
+// criterion that has none, or longer than the body (a ball of 1000 km on a plate).
+TEST(Executable, CriterionLengthsNoBodyCanUseAreRefused) {
+  TempDir dir;
+  const std::string branching = std::string(kLoad) + "[fracture]\nmode = branching\n";
+  expect_run_fails(dir, "bad.ini", branching + "criterion = facet\nepsilon = 1e6\n",
+                   {"bad.ini", "fracture.epsilon", "does not use"});
+  expect_run_fails(dir, "bad.ini", branching + "criterion = nodal-stress\nlength = 1e-3\n",
+                   {"bad.ini", "fracture.length", "does not use"});
+  expect_run_fails(dir, "bad.ini", branching + "criterion = energy\nepsilon = 1e6\n",
+                   {"fracture.epsilon = 1e+06 m is longer than the body"});
+  expect_run_fails(dir, "bad.ini", branching + "criterion = coupled-facet\nlength = 1e6\n",
+                   {"fracture.length = 1e+06 m is longer than the body"});
+}
+
+// A material length the mesh does not resolve runs, with one warning line that says so.
+TEST(Executable, UnresolvedMaterialLengthWarns) {
+  TempDir dir;
+  const std::string file = dir.write(
+      "coarse.ini", std::string(kLoad) +
+                        "[fracture]\nmode = branching\ncriterion = nonlocal-facet\nlength = "
+                        "0.1e-3\n[run]\nend_time = 0.2e-6\n");
+  const Result r = run_brittle(dir, {"run", file, "--out", (dir / "out").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "warning: fracture.length: the material length l = 0.1 mm is not "
+                              "resolved by this mesh")) << r.err;
+}
+
 TEST(Executable, UnknownKey) {
   TempDir dir;
   expect_run_fails(dir, "bad.ini", std::string(kLoad) + "[material]\nEe = 3e9\n",

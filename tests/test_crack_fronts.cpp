@@ -344,21 +344,22 @@ TEST(Fork, YBranchIsAForkWithItsArmsAndTheirReach) {
   EXPECT_LT(f.arms[1].y, 0);
 }
 
-// A planted pair: the same stem with one arm 3 mm long is a fork when branches need 2 mm and
-// not when they need 4 mm (a side crack, not a Y).
+// A planted pair: the same stem with one arm 8 mm long (long enough to be a branching point:
+// the arms 3 mm apart) is a fork when branches need 4 mm and not when they need 10 mm (a side
+// crack, not a Y).
 TEST(Fork, AShortArmIsNoFork) {
   const double v = 1500;
   std::vector<Split> s = line(0, 10e-3, 0, 0, v, 80);
   const double tb = s.back().t;
-  const auto plus = line(tb, 50e-3, 0, 15, v, 6), minus = line(tb, 50e-3, 0, -15, v, 60);
+  const auto plus = line(tb, 50e-3, 0, 15, v, 16), minus = line(tb, 50e-3, 0, -15, v, 60);
   s.insert(s.end(), plus.begin(), plus.end());
   s.insert(s.end(), minus.begin(), minus.end());
   CrackFronts fronts(join, separation);
   fronts.add_seed(10e-3, 0, 1, 0);
   feed(fronts, in_order(s));
   ASSERT_EQ(fronts.branchings().size(), 1u);
-  EXPECT_FALSE(find_fork(fronts, 4e-3).found);
-  EXPECT_TRUE(find_fork(fronts, 2e-3).found);
+  EXPECT_FALSE(find_fork(fronts, 10e-3).found);
+  EXPECT_TRUE(find_fork(fronts, 4e-3).found);
 }
 
 // An arm that branches again: its line goes on through the longer of its own arms, and its

@@ -1,13 +1,18 @@
 // The fracture criteria besides the paper's (docs/fracture-criteria.md): the energy criterion
-// against Williams' field, and the facet criterion's topology, links and threads.
+// against Williams' field, the facet criterion's topology, links and threads, and the
+// material lengths of the nonlocal and coupled facet criteria.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include "cohesive.hpp"
+#include "coupled_facet_criterion.hpp"
+#include "energy_criterion.hpp"
 #include "fixtures.hpp"
+#include "nonlocal_facet_criterion.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 
@@ -209,6 +214,77 @@ TEST(Branching, FacetCriterionResultsIndependentOfThreadCount) {
     EXPECT_GT(r.tip_x, s.geometry.notch_depth);
   }
   EXPECT_GT(one.splits, 0);
+  EXPECT_EQ(one.splits, two.splits);
+  EXPECT_EQ(one.x, two.x);
+}
+
+// The constant of the nonlocal facet criterion's default length (nonlocal_facet_criterion.hpp):
+// the bell-weighted mean of Williams' sigma_yy over a disc of radius l, K / sqrt(2 pi r)
+// cos(t/2) (1 + sin(t/2) sin(3t/2)), at its largest over centres on the crack line, is
+// kWilliamsPeak K / sqrt(l), 0.37 l ahead of the tip (midpoint sums on a 600 x 600 grid).
+TEST(NonlocalFacet, WilliamsFieldAverageAheadOfTheTip) {
+  const double pi = 3.14159265358979323846;
+  const int n = 600;
+  double best = 0, at = 0;
+  for (int c = 0; c <= 12; ++c) {
+    const double x0 = 0.05 * c;  // the centre, in units of l ahead of the tip
+    double sum = 0, weights = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = -1 + (2.0 * i + 1) / n, y = -1 + (2.0 * j + 1) / n;
+        const double r2 = x * x + y * y;
+        if (r2 >= 1) continue;
+        const double w = (1 - r2) * (1 - r2);
+        const double X = x + x0, r = std::hypot(X, y), t = std::atan2(y, X);
+        sum += w * std::cos(t / 2) * (1 + std::sin(t / 2) * std::sin(1.5 * t)) /
+               std::sqrt(2 * pi * r);
+        weights += w;
+      }
+    if (sum / weights > best) best = sum / weights, at = x0;
+  }
+  EXPECT_NEAR(best, NonlocalFacetCriterion::kWilliamsPeak, 0.003);
+  EXPECT_NEAR(at, 0.37, 0.051);
+}
+
+// The averaged stress is a weighted mean: a uniform field is its own average in every cell,
+// and the default lengths are the material's (0.367 and 1 x E G_c / sigma_c^2).
+TEST(NonlocalFacet, AverageOfAUniformFieldIsTheField) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 1e-6, 1e-3);
+  s.fracture.criterion = FractureParams::Criterion::nonlocal_facet;
+  s.fracture.length = 2.5e-3;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation sim(s, *mesh);
+  const Grid& g = sim.grid();
+  std::vector<double> stress(6 * g.num_cells());
+  for (vtkIdType e = 0; e < g.num_cells(); ++e)
+    std::copy_n(std::array<double, 6>{1e6, 2e6, 3e6, 4e5, 5e5, 6e5}.data(), 6, &stress[6 * e]);
+  NonlocalFacetCriterion c(s, CriterionContext{g, sim.elements(), [&](const double*) {
+                                                 return s.material.sigma_c;
+                                               }, [](vtkIdType) { return true; }});
+  EXPECT_EQ(c.length(), 2.5e-3);
+  for (vtkIdType e : {vtkIdType(0), g.num_cells() / 2, g.num_cells() - 1}) {
+    double m[6];
+    c.average_of(g, stress.data(), e, m);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(m[k], stress[k], 1e-9 * std::abs(stress[k])) << e;
+  }
+  const double l_ch = s.material.E * 2 * s.material.gamma / (s.material.sigma_c * s.material.sigma_c);
+  s.fracture.length = 0;
+  EXPECT_NEAR(nonlocal_length(s), 0.606 * 0.606 * l_ch, 1e-12 * l_ch);
+  EXPECT_NEAR(coupled_length(s), l_ch, 1e-12 * l_ch);
+}
+
+// The coupled criterion filters the facet criterion's faces by energy: on the paper's plate
+// at 0.9 sigma_c it still breaks from the notch, and every face it opens is one its nonlocal
+// stress condition opened too (its splits are a subset in count), on any thread count.
+TEST(Branching, CoupledFacetCriterionResultsIndependentOfThreadCount) {
+  Scene s = fracture_scene(FractureParams::Mode::branching, 12e-6);
+  s.fracture.criterion = FractureParams::Criterion::coupled_facet;
+  s.fracture.length = 1.5e-3;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  const ThreadRun one = run_on_threads(s, *mesh, 1), two = run_on_threads(s, *mesh, 2);
+  EXPECT_GT(one.splits, 0);
+  EXPECT_GT(one.tip_x, s.geometry.notch_depth);
+  EXPECT_NEAR(one.tip_y, 0.0, 2e-3);
   EXPECT_EQ(one.splits, two.splits);
   EXPECT_EQ(one.x, two.x);
 }

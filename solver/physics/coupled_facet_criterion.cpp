@@ -17,6 +17,19 @@ double coupled_length(const Scene& scene) {
   return m.E * 2.0 * m.gamma / (m.sigma_c * m.sigma_c);
 }
 
+namespace {
+
+/// coupled_length, refused (one line) when no body can use it.
+double checked_length(const Scene& scene, const Grid& grid) {
+  const double l = coupled_length(scene);
+  BRITTLE_CHECK(l > 0 && std::isfinite(l), "fracture.criterion = coupled-facet: the length l = ",
+                l, " m (expected fracture.length > 0, or a material with E, gamma and sigma_c > 0)");
+  check_length_fits(grid, "fracture.length", l);
+  return l;
+}
+
+}  // namespace
+
 std::string resolution_warning(const ElementData& elements, double length) {
   std::vector<double> h = elements.h_e;
   if (h.empty()) return {};
@@ -33,22 +46,21 @@ std::string resolution_warning(const ElementData& elements, double length) {
 }
 
 CoupledFacetCriterion::CoupledFacetCriterion(const Scene& scene, const CriterionContext& context)
-    : FacetCriterion(scene, context), G_min_(2.0 * scene.material.gamma * (1.0 + 1e-9)) {
+    : NonlocalFacetCriterion(scene, context,
+                             kWilliamsPeak * kWilliamsPeak * checked_length(scene, context.grid)),
+      G_min_(2.0 * scene.material.gamma * (1.0 + 1e-9)) {
   name_ = "coupled-facet";
   const double l = coupled_length(scene);
-  BRITTLE_CHECK(l > 0 && std::isfinite(l), "fracture.criterion = coupled-facet: the length l = ",
-                l, " m (expected fracture.length > 0, or a material with E, gamma and sigma_c > 0)");
-  check_length_fits(context.grid, "fracture.length", l);
   energy_ = std::make_unique<EnergyCriterion>(
       context.grid, context.elements, l, scene.material.E, 2.0 * scene.material.gamma,
       scene.material.sigma_c, plane_stress_rayleigh_speed(scene.material));
-  warning_ = resolution_warning(context.elements, l);
+  warning_ = NonlocalFacetCriterion::warning();  // (the stress average's, the shorter length)
 }
 
 std::vector<SplitCandidate> CoupledFacetCriterion::candidates(const Grid& grid,
                                                               const ForceAssembler& forces,
                                                               const CriterionInputs& in) {
-  std::vector<SplitCandidate> over = FacetCriterion::candidates(grid, forces, in);
+  std::vector<SplitCandidate> over = NonlocalFacetCriterion::candidates(grid, forces, in);
   if (over.empty()) return over;
   energy_->begin_step();
   const vtkIdType* cells = grid.cells();

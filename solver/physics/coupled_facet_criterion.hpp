@@ -1,24 +1,26 @@
 // The facet criterion with Leguillon's coupled condition (docs/fracture-criteria.md, "The
-// coupled facet criterion"): a face opens when its traction reaches its strength (the facet
-// criterion) and the energy its plane's tractions hold within a ball of radius l, per unit of
-// the crack area a cut through that ball makes, reaches G_c (the energy criterion's estimate,
-// Leguillon 2002): strength for where, energy over a material length for whether.
+// coupled facet criterion"): a face opens when its traction, from stresses averaged over
+// 0.367 l, reaches its strength and the energy its plane's tractions hold within a ball of
+// radius l, per unit of the crack area a cut through that ball makes, reaches G_c (the energy
+// criterion's estimate; Leguillon 2002): both conditions over lengths of the material.
 #pragma once
 
 #include <memory>
 
 #include "energy_criterion.hpp"
-#include "facet_criterion.hpp"
+#include "nonlocal_facet_criterion.hpp"
 
 namespace brittle {
 
-class CoupledFacetCriterion : public FacetCriterion {
+class CoupledFacetCriterion : public NonlocalFacetCriterion {
  public:
   /// fracture.criterion = coupled-facet: l = fracture.length, or (0) the material's
-  /// E G_c / sigma_c^2 (its cohesive length, Irwin's and Hillerborg's l_ch).
+  /// E G_c / sigma_c^2 (its cohesive length, Irwin's and Hillerborg's l_ch). The stress
+  /// condition reads stresses averaged over c^2 l (NonlocalFacetCriterion, c = kWilliamsPeak),
+  /// so that a straight crack's tip meets both conditions at one K, sqrt(E G_c).
   CoupledFacetCriterion(const Scene& scene, const CriterionContext& context);
 
-  double length() const { return energy_->epsilon(); }
+  double energy_length() const { return energy_->epsilon(); }
   /// The facet criterion's faces, then those whose G_eps(face centroid, face normal) =
   /// C l n . <(T+)^2>_l n / E reaches G_c (EnergyCriterion): in the same order.
   std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces,

@@ -20,7 +20,11 @@ double nonlocal_length(const Scene& scene) {
 }
 
 NonlocalFacetCriterion::NonlocalFacetCriterion(const Scene& scene, const CriterionContext& context)
-    : FacetCriterion(scene, context), length_(nonlocal_length(scene)) {
+    : NonlocalFacetCriterion(scene, context, nonlocal_length(scene)) {}
+
+NonlocalFacetCriterion::NonlocalFacetCriterion(const Scene& scene, const CriterionContext& context,
+                                               double length)
+    : FacetCriterion(scene, context), length_(length) {
   name_ = "nonlocal-facet";
   BRITTLE_CHECK(length_ > 0 && std::isfinite(length_),
                 "fracture.criterion = nonlocal-facet: the length l = ", length_,

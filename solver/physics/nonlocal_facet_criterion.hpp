@@ -24,6 +24,8 @@ class NonlocalFacetCriterion : public FacetCriterion {
   /// fracture.criterion = nonlocal-facet: l = fracture.length, or (0) the length at which a
   /// tip loaded to K_c = sqrt(E G_c) brings the average to sigma_c, (c^2) E G_c / sigma_c^2.
   NonlocalFacetCriterion(const Scene& scene, const CriterionContext& context);
+  /// The same with an averaging radius of `length` [m] (the coupled facet criterion's).
+  NonlocalFacetCriterion(const Scene& scene, const CriterionContext& context, double length);
 
   double length() const { return length_; }
   /// Averages over the cells within l of each cell's reference centroid (6 per cell): the
