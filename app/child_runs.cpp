@@ -120,6 +120,30 @@ std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs
   return outcome;
 }
 
+std::vector<std::string> run_or_reuse(const std::vector<ChildRun>& runs, bool reuse, int jobs,
+                                      const std::string& batch) {
+  std::vector<std::string> why(runs.size(), "not started: the " + batch + " was stopped");
+  std::vector<ChildRun> children;
+  std::vector<std::size_t> child_of;  // the entry of each child
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (reuse && finished_same_run(runs[i])) {
+      why[i].clear();
+      if (mpi_rank() == 0)
+        std::fprintf(stderr, "brittle study: reusing %s\n", runs[i].directory.c_str());
+    } else {
+      children.push_back(runs[i]);
+      child_of.push_back(i);
+    }
+  }
+  const std::vector<ChildStart> started = run_children(children, jobs);
+  for (std::size_t c = 0; c < children.size(); ++c) {
+    if (started[c] == ChildStart::started) why[child_of[c]].clear();
+    if (started[c] == ChildStart::held)
+      why[child_of[c]] = "not started: another run holds " + children[c].directory + " (run.lock)";
+  }
+  return why;
+}
+
 std::optional<nlohmann::json> read_json(const std::string& path) {
   std::ifstream in(path);
   if (!in) return std::nullopt;

@@ -37,6 +37,13 @@ enum class ChildStart { stopped = 0, started = 1, held = 2 };
 /// rank).
 std::vector<ChildStart> run_children(const std::vector<ChildRun>& runs, int jobs);
 
+/// A batch's runs (study mesh, study ensemble): with `reuse`, an entry whose directory holds a
+/// completed run of the same arguments is read, not run again ("brittle study: reusing DIR" on
+/// rank 0); the rest go through run_children. Per entry: empty when it is ready (reused or
+/// run), else why not ("not started: ...", `batch` naming what was stopped).
+std::vector<std::string> run_or_reuse(const std::vector<ChildRun>& runs, bool reuse, int jobs,
+                                      const std::string& batch);
+
 /// The JSON in `path`, or nothing when it is missing or not JSON.
 std::optional<nlohmann::json> read_json(const std::string& path);
 

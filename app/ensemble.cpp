@@ -306,8 +306,8 @@ void write_overlay(const EnsembleOptions& o, const Scene& scene,
   render::ChartAxes axes;
   int forks = 0;
   for (const EnsembleMember& m : members) forks += m.fork;
-  axes.title = std::to_string(members.size()) + " members (--vary " + vary_name(o.vary) + "): " +
-               std::to_string(forks) + " fork";
+  axes.title = std::to_string(members.size()) + " members (--vary " + vary_name(o.vary) +
+               "), forks: " + std::to_string(forks) + " of " + std::to_string(members.size());
   axes.x_title = "x [mm]";
   axes.y_title = "y [mm]";
   axes.x_min = 0, axes.x_max = 1e3 * g.L;
@@ -377,36 +377,19 @@ std::vector<EnsembleMember> run_ensemble(const EnsembleOptions& o) {
     plan.push_back(std::move(m));
   }
   fs::create_directories(o.out);
-  std::vector<ChildRun> children;
-  std::vector<std::size_t> child_of;
-  std::vector<bool> ready(plan.size(), false);
-  for (std::size_t i = 0; i < plan.size(); ++i) {
-    if (o.reuse && finished_same_run(plan[i].child)) {
-      ready[i] = true;
-      if (mpi_rank() == 0)
-        std::fprintf(stderr, "brittle study: reusing %s\n", plan[i].child.directory.c_str());
-    } else {
-      children.push_back(plan[i].child);
-      child_of.push_back(i);
-    }
-  }
-  const std::vector<ChildStart> started = run_children(children, o.jobs);
+  std::vector<ChildRun> runs;
+  for (const PlannedMember& m : plan) runs.push_back(m.child);
+  const std::vector<std::string> why = run_or_reuse(runs, o.reuse, o.jobs, "ensemble");
   std::vector<EnsembleMember> members;
-  std::vector<std::string> why(plan.size());
-  for (std::size_t c = 0; c < children.size(); ++c) {
-    if (started[c] == ChildStart::started) ready[child_of[c]] = true;
-    if (started[c] == ChildStart::held)
-      why[child_of[c]] = "not started: another run holds " + children[c].directory + " (run.lock)";
-  }
   for (std::size_t i = 0; i < plan.size(); ++i) {
-    if (ready[i]) {
+    if (why[i].empty()) {
       members.push_back(read_member(plan[i].child.directory, static_cast<int>(i) + 1,
                                     plan[i].variation, reach));
     } else {
       EnsembleMember m;
       m.index = static_cast<int>(i) + 1, m.variation = plan[i].variation;
       m.directory = plan[i].child.directory;
-      m.status = why[i].empty() ? "not started: the ensemble was stopped" : why[i];
+      m.status = why[i];
       members.push_back(m);
     }
   }

@@ -420,36 +420,18 @@ std::vector<MeshStudyRow> run_mesh_study(const MeshStudyOptions& o) {
                     "' is given twice (expected distinct labels)");
   const std::vector<PlannedRun> plan = plan_runs(o, cases);
   fs::create_directories(o.out);
-  std::vector<ChildRun> children;
-  std::vector<bool> ready(plan.size(), false);  // reused or run
-  std::vector<std::size_t> child_of;             // plan index of each child
-  for (std::size_t i = 0; i < plan.size(); ++i) {
-    if (o.reuse && finished_same_run(plan[i].child)) {
-      ready[i] = true;
-      if (mpi_rank() == 0)
-        std::fprintf(stderr, "brittle study: reusing %s\n", plan[i].child.directory.c_str());
-    } else {
-      children.push_back(plan[i].child);
-      child_of.push_back(i);
-    }
-  }
-  const std::vector<ChildStart> started = run_children(children, o.jobs);
-  std::vector<bool> held(plan.size(), false);  // another run holds its directory
-  for (std::size_t c = 0; c < children.size(); ++c) {
-    if (started[c] == ChildStart::started) ready[child_of[c]] = true;
-    if (started[c] == ChildStart::held) held[child_of[c]] = true;
-  }
+  std::vector<ChildRun> runs;
+  for (const PlannedRun& run : plan) runs.push_back(run.child);
+  const std::vector<std::string> why = run_or_reuse(runs, o.reuse, o.jobs, "study");
   std::vector<MeshStudyRow> rows;
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const std::string& label = cases[plan[i].case_index].label;
-    if (ready[i]) {
+    if (why[i].empty()) {
       rows.push_back(read_study_run(plan[i], label));
     } else {
       MeshStudyRow r;
       r.label = label, r.size = plan[i].size, r.layers = plan[i].layers;
-      r.status = held[i] ? "not started: another run holds " + plan[i].child.directory +
-                               " (run.lock)"
-                         : "not started: the study was stopped";
+      r.status = why[i];
       r.directory = plan[i].child.directory;
       rows.push_back(r);
     }
