@@ -131,26 +131,35 @@ TEST(Checkpoint, ResumedRunIsBitwiseTheUninterruptedRun) {
   expect_same_outputs(dir / "full", dir / "part");
 }
 
-// The facet criterion's open faces are state: a branching run on faces, stopped at 3 us and
-// resumed to 6 us on another thread count, is the uninterrupted run.
+// The facet criteria's open faces are state (the nonlocal balls and the energy balls are
+// caches, rebuilt): a branching run on faces, stopped at 3 us and resumed to 6 us on another
+// thread count, is the uninterrupted run; with the coupled criterion too.
 TEST(Checkpoint, FacetCriterionRunResumesBitwise) {
-  TempDir dir;
-  const std::vector<std::string> overlays{"branching.ini"};
-  const std::string facet = "fracture.criterion=facet";
-  Result r = run_brittle(
-      dir, run_args(overlays, dir / "full", {"run.end_time=6e-6", "run.threads=2", facet}));
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_brittle(dir, run_args(overlays, dir / "part",
-                                {"run.end_time=3e-6", "run.threads=1",
-                                 "output.checkpoint_interval=1e-6", facet}));
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const long at_3us = summary(dir / "part").at("splits").get<long>();
-  EXPECT_GT(at_3us, 2);
-  r = run_brittle(dir, {"run", "--resume", (dir / "part").string(), "--set", "run.end_time=6e-6",
-                        "--set", "run.threads=2"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_GT(summary(dir / "part").at("splits").get<long>(), at_3us);  // faces opened after it
-  expect_same_outputs(dir / "full", dir / "part");
+  for (const std::vector<std::string>& keys :
+       {std::vector<std::string>{"fracture.criterion=facet"},
+        {"fracture.criterion=coupled-facet", "fracture.length=1e-3"}}) {
+    SCOPED_TRACE(keys[0]);
+    TempDir dir;
+    const std::vector<std::string> overlays{"branching.ini"};
+    const auto with = [&](std::vector<std::string> sets) {
+      sets.insert(sets.end(), keys.begin(), keys.end());
+      return sets;
+    };
+    Result r = run_brittle(
+        dir, run_args(overlays, dir / "full", with({"run.end_time=6e-6", "run.threads=2"})));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_brittle(dir, run_args(overlays, dir / "part",
+                                  with({"run.end_time=3e-6", "run.threads=1",
+                                        "output.checkpoint_interval=1e-6"})));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const long at_3us = summary(dir / "part").at("splits").get<long>();
+    EXPECT_GT(at_3us, 2);
+    r = run_brittle(dir, {"run", "--resume", (dir / "part").string(), "--set",
+                          "run.end_time=6e-6", "--set", "run.threads=2"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(summary(dir / "part").at("splits").get<long>(), at_3us);  // faces opened after it
+    expect_same_outputs(dir / "full", dir / "part");
+  }
 }
 
 TEST(Checkpoint, StraightRateIndependentRunResumesBitwise) {

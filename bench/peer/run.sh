@@ -36,6 +36,12 @@
 #                  start, speed and branching converge from 0.4 down, docs/peer.md)
 #     --nodal      brittle with the paper's nodal rule (scenes/glass-nodal.ini over the scene:
 #                  how docs/peer.md's table was made); default: the scene as shipped (facet)
+#     --ensemble N also brittle as an ensemble of N members varying the mesh realization
+#                  (`brittle study ensemble --vary mesh`, docs/ensembles.md) at the same h:
+#                  DIR/h<mm>mm/ensemble/ and DIR/h<mm>mm/ensemble_side_by_side.png, every
+#                  member's crack next to the LAMMPS damage at 80 us
+#     --set K=V    a scene key for brittle's runs (repeatable), e.g.
+#                  --set fracture.criterion=coupled-facet
 # Environment: BRITTLE (default build/release/app/brittle), LMP (default lmp),
 #   PYTHON (default /usr/bin/python3: Debian's, with numpy and matplotlib).
 # Cost on the 2-core AMD EPYC VM of docs/peer.md, one thread: 0.5 mm about 1.5 min in all
@@ -56,6 +62,8 @@ MATCHED=1
 SAFETY=0.8
 SIZES=()
 OVERLAY=()
+ENSEMBLE=0
+SETS=()
 
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -66,6 +74,10 @@ while [ $# -gt 0 ]; do
     --safety) SAFETY="$2"; shift 2 ;;
     --safety=*) SAFETY="${1#--safety=}"; shift ;;
     --nodal) OVERLAY=("$ROOT/scenes/glass-nodal.ini"); shift ;;
+    --ensemble) ENSEMBLE="$2"; shift 2 ;;
+    --ensemble=*) ENSEMBLE="${1#--ensemble=}"; shift ;;
+    --set) SETS+=(--set "$2"); shift 2 ;;
+    --set=*) SETS+=(--set "${1#--set=}"); shift ;;
     -h|--help) sed -n '2,/^$/p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) SIZES+=("$1"); shift ;;
@@ -124,7 +136,7 @@ for h in "${SIZES[@]}"; do
     rm -rf "$b"; mkdir -p "$b"
     cmd=("$BRITTLE" run "$SCENE" "${OVERLAY[@]}" --set "mesh.size=$h" --set mesh.band=0 --set mesh.layers=1
          --set run.threads=1 --set run.end_time=80e-6 --set run.stop_when_cut_through=false
-         --set output.frame_times=80e-6 --out "$b/run")
+         --set output.frame_times=80e-6 "${SETS[@]}" --out "$b/run")
     echo "  ${cmd[*]}" | sed "s|$ROOT/||g"
     printf '%q ' nice -n 19 "${cmd[@]}" > "$b/command.txt"
     /usr/bin/time -v -o "$b/time.txt" nice -n 19 "${cmd[@]}" > "$b/stdout.txt" 2>&1 ||
@@ -154,6 +166,22 @@ for h in "${SIZES[@]}"; do
     --params "$base/lammps/params.json" --out "$base/side_by_side.png" \
     --title "Glass plate at 80 us, h = $("$PY" -c "print('%g' % ($h * 1e3))") mm" \
     --brittle-title "brittle: crack faces (dark) and tips (red) at 80 us" > /dev/null
+
+  # 5. the ensemble: every member's crack on one plate, next to the LAMMPS damage
+  if [ "$ENSEMBLE" -gt 0 ]; then
+    e="$base/ensemble"
+    reuse_flag=(); [ "$REUSE" = 1 ] && reuse_flag=(--reuse)
+    nice -n 19 "$BRITTLE" study ensemble "$SCENE" "${OVERLAY[@]}" --vary mesh --members "$ENSEMBLE" \
+      --set "mesh.size=$h" --set mesh.band=0 --set mesh.layers=1 --set run.end_time=80e-6 \
+      --set run.stop_when_cut_through=false "${SETS[@]}" "${reuse_flag[@]}" --out "$e" > "$base/ensemble.txt" 2>&1 ||
+      die "brittle study ensemble failed: $base/ensemble.txt"
+    "$PY" "$HERE/peer.py" picture --brittle "$e/ensemble.png" \
+      --lammps "$(dump_of "$base/lammps")" "LAMMPS peri/pmb, own dt: damage at 80 us" \
+      --params "$base/lammps/params.json" --out "$base/ensemble_side_by_side.png" \
+      --title "Glass plate, h = $("$PY" -c "print('%g' % ($h * 1e3))") mm: brittle's ensemble and LAMMPS" \
+      --brittle-title "brittle: $ENSEMBLE mesh realizations, every member's splits" > /dev/null
+    grep "^forks:" "$base/ensemble.txt" | sed "s|^|  brittle ensemble: |"
+  fi
 done
 
 "$PY" "$HERE/peer.py" table "$OUT" > /dev/null

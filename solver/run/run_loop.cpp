@@ -77,7 +77,9 @@ RunSummary Simulation::run(const std::vector<Observer*>& observers, Checkpointer
   const double energy_interval = scene_.output.energy_interval;
   auto due = [this](double t) { return time_ >= t - 0.5 * dt_; };
   auto warn = [&](const std::string& w) {
-    p.warnings.push_back(w);
+    // (once in the summary: a resumed run gives its start warnings again)
+    if (std::find(p.warnings.begin(), p.warnings.end(), w) == p.warnings.end())
+      p.warnings.push_back(w);
     for (Observer* o : observers) o->on_warning(*this, w);
   };
   std::string local_error;  // this rank's first error since the last agreement (below)
