@@ -59,10 +59,14 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
   }
   using C = FractureParams::Criterion;
   const C c = s.fracture.criterion;
-  const bool facets = c == C::facet || c == C::nonlocal_facet || c == C::coupled_facet;
+  const bool facets = c == C::facet || c == C::nonlocal_facet || c == C::coupled_facet ||
+                      c == C::recovered_facet;
   BRITTLE_CHECK(!facets || s.fracture.mode == FractureParams::Mode::branching,
                 o.latest({"fracture.criterion", "fracture.mode"}), ": fracture.criterion = ",
-                c == C::facet ? "facet" : c == C::nonlocal_facet ? "nonlocal-facet" : "coupled-facet",
+                c == C::facet             ? "facet"
+                : c == C::nonlocal_facet  ? "nonlocal-facet"
+                : c == C::coupled_facet   ? "coupled-facet"
+                                          : "recovered-facet",
                 " needs fracture.mode = branching (straight splits the paper's plane by its "
                 "normal stress (6.7))");
   // A criterion's length given to another criterion would be ignored without a word.

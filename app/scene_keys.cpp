@@ -337,12 +337,15 @@ const std::vector<Key>& scene_keys() {
              "open faces cut their cells apart; branching mode) | nonlocal-facet (the facet "
              "criterion on stresses averaged over a ball of radius fracture.length; branching "
              "mode) | coupled-facet (a face opens at its strength when the energy over a ball "
-             "of radius fracture.length reaches 2 gamma too, Leguillon; branching mode)",
+             "of radius fracture.length reaches 2 gamma too, Leguillon; branching mode) | "
+             "recovered-facet (the facet criterion on the stress recovered at the nodes over "
+             "each node's patch of cells, Zienkiewicz-Zhu; branching mode)",
              {{"nodal-stress", FP::Criterion::nodal_stress},
               {"energy", FP::Criterion::energy},
               {"facet", FP::Criterion::facet},
               {"nonlocal-facet", FP::Criterion::nonlocal_facet},
-              {"coupled-facet", FP::Criterion::coupled_facet}}));
+              {"coupled-facet", FP::Criterion::coupled_facet},
+              {"recovered-facet", FP::Criterion::recovered_facet}}));
     k.push_back(field("fracture.epsilon", &Scene::fracture, &FP::epsilon, "m",
                       "the energy criterion's length: the radius of the ball whose energy a "
                       "split releases (0 = 3 x the median element size)",

@@ -12,6 +12,7 @@
 #include "facet_criterion.hpp"
 #include "nodal_stress_criterion.hpp"
 #include "nonlocal_facet_criterion.hpp"
+#include "recovered_facet_criterion.hpp"
 
 namespace brittle {
 
@@ -27,6 +28,7 @@ std::unique_ptr<Criterion> make_criterion(const Scene& scene, const CriterionCon
     case Name::facet: return std::make_unique<FacetCriterion>(scene, context);
     case Name::nonlocal_facet: return std::make_unique<NonlocalFacetCriterion>(scene, context);
     case Name::coupled_facet: return std::make_unique<CoupledFacetCriterion>(scene, context);
+    case Name::recovered_facet: return std::make_unique<RecoveredFacetCriterion>(scene, context);
   }
   return nullptr;
 }

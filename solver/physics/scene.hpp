@@ -107,8 +107,11 @@ struct FractureParams {
   /// cut their cells apart.
   /// nonlocal_facet, the facet criterion on stresses averaged over a ball of radius length;
   /// coupled_facet, a face opens at its strength if the energy over a ball of radius length
-  /// reaches 2 gamma too (Leguillon).
-  enum class Criterion { nodal_stress, energy, facet, nonlocal_facet, coupled_facet };
+  /// reaches 2 gamma too (Leguillon); recovered_facet, the facet criterion on the stress
+  /// recovered over each node's patch (Zienkiewicz-Zhu).
+  enum class Criterion {
+    nodal_stress, energy, facet, nonlocal_facet, coupled_facet, recovered_facet
+  };
   Criterion criterion = Criterion::nodal_stress;
   double epsilon = 0.0;  ///< the energy criterion's length [m]; 0 = 3 x the median element size
   /// The nonlocal facet criterion's material length l [m]: stresses are averaged over a ball
