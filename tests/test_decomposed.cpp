@@ -209,6 +209,37 @@ TEST(Decomposed, CoarseBranchingRunHasTheSerialBits) {
   }
 }
 
+/// run.step_bound = nodal (a node's bound sums all its cells: an owned node's, in the serial
+/// order; the minimum over owned nodes, reduced with its global id) and run.mass_scaling (each
+/// cell scaled on its own, the report over owned cells in exact sums): the serial bits, the
+/// serial step and the serial report (issue 52, item 3).
+TEST(Decomposed, NodalStepBoundAndMassScalingHaveTheSerialBits) {
+  Scene s = branching_scene();
+  s.mesh.size = 1e-3;
+  s.run.step_bound = RunParams::StepBound::nodal;
+  s.run.cfl = 0.9;
+  {  // a target above the smallest elements' step: some cells scaled
+    auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+    s.run.mass_scaling = 1.3 * Simulation(s, *mesh).step_distribution().smallest;
+  }
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  Simulation serial(s, *mesh);
+  const LocalPart part = extract_part(serial.grid(), partition_grid(serial.grid(), ranks()), rank());
+  Simulation local(s, *part.mesh);
+  Halo halo(part);
+  local.decompose(halo);
+  const MassScaling &a = local.mass_scaling(), &b = serial.mass_scaling();
+  EXPECT_GT(b.elements, 0);
+  EXPECT_EQ(a.elements, b.elements);
+  EXPECT_EQ(a.mass, b.mass);
+  EXPECT_EQ(a.added, b.added);
+  EXPECT_EQ(a.largest, b.largest);
+  EXPECT_EQ(a.element, b.element);
+  EXPECT_EQ(local.dt(), serial.dt());
+  const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
+  EXPECT_GT(c.splits, 10);
+}
+
 /// Parts cut by hand along the crack plane: cells above y = 0 in part 0, below in the others
 /// (split at x = L/2 for 3 ranks). The boundary runs through the notch tip and along the whole
 /// straight crack: every split is of a node whose cells lie in two parts.

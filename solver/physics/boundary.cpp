@@ -98,6 +98,13 @@ std::vector<std::uint8_t> region_mask(const RegionParams& region, vtkUnstructure
 
 using Face = std::array<vtkIdType, 3>;
 
+/// A rank's part of a decomposed run (extract_part marks it with the whole mesh's bounds): a
+/// region may miss it, and only the whole grid's selection must not be empty
+/// (Boundary::selections, checked over the ranks by Simulation::decompose).
+bool is_part(vtkUnstructuredGrid& mesh) {
+  return mesh.GetFieldData()->GetArray(kWholeBounds) != nullptr;
+}
+
 }  // namespace
 
 std::vector<vtkIdType> select_nodes(const RegionParams& region, vtkUnstructuredGrid& mesh,
@@ -106,8 +113,8 @@ std::vector<vtkIdType> select_nodes(const RegionParams& region, vtkUnstructuredG
   std::vector<vtkIdType> nodes;
   for (vtkIdType p = 0; p < static_cast<vtkIdType>(in.size()); ++p)
     if (in[p]) nodes.push_back(p);
-  BRITTLE_CHECK(allow_empty || !nodes.empty(), where, ": the region (", describe(region),
-                ") selects no node of the mesh");
+  BRITTLE_CHECK(allow_empty || is_part(mesh) || !nodes.empty(), where, ": the region (",
+                describe(region), ") selects no node of the mesh");
   return nodes;
 }
 
@@ -159,7 +166,7 @@ std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
   BRITTLE_CHECK(interior == 0, where, ": the region (", describe(region), ") holds ", interior,
                 " interior face(s); a traction acts on boundary faces only (use a thin box "
                 "around the surface or a surface group)");
-  BRITTLE_CHECK(!out.empty(), where, ": the region (", describe(region),
+  BRITTLE_CHECK(!out.empty() || is_part(mesh), where, ": the region (", describe(region),
                 ") holds no boundary face of the mesh");
   return out;
 }
@@ -181,6 +188,17 @@ void apply_initial_state(const Scene& scene, double sigma, const ElasticConstant
   for (const InitialVelocityParams& iv : scene.initial.velocities)
     for (vtkIdType p : select_nodes(iv.region, mesh, "[initial." + iv.name + "]"))
       for (int d = 0; d < 3; ++d) v[3 * p + d] = iv.velocity[d];
+}
+
+std::vector<RegionSelection> region_selections(const Scene& scene, vtkUnstructuredGrid& mesh,
+                                               const Boundary& boundary) {
+  std::vector<RegionSelection> out = boundary.selections();
+  for (const InitialVelocityParams& iv : scene.initial.velocities) {
+    const std::string where = "[initial." + iv.name + "]";
+    out.push_back({static_cast<long>(select_nodes(iv.region, mesh, where).size()),
+                   where + ": the region (" + describe(iv.region) + ") selects no node of the mesh"});
+  }
+  return out;
 }
 
 Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
@@ -218,11 +236,18 @@ Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
           fixed[n] |= constraint::no_split;
         }
       }
+      selections_.push_back({static_cast<long>(faces.size()),
+                             error_message(where, ": the region (", describe(p.region),
+                                           ") holds no boundary face of the mesh")});
       description_.push_back(error_message(where, " traction ", p.value[0], ", ", p.value[1], ", ",
                                            p.value[2], " Pa on ", faces.size(), " faces, area ",
                                            area, " m^2"));
     } else {
       const std::vector<vtkIdType> nodes = select_nodes(p.region, mesh, where, paper_plate);
+      if (!paper_plate)
+        selections_.push_back({static_cast<long>(nodes.size()),
+                               error_message(where, ": the region (", describe(p.region),
+                                             ") selects no node of the mesh")});
       for (vtkIdType n : nodes) {
         for (int d = 0; d < 3; ++d)
           if (p.components[d]) owner[3 * n + d] = static_cast<int>(b);

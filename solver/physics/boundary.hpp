@@ -36,8 +36,16 @@ struct BoundaryFace {
   double normal[3] = {0, 0, 0};  ///< outward unit normal (reference)
 };
 
+/// What a region selected on this mesh (faces or nodes) and the error if the whole grid's
+/// selection is empty: a decomposed run's part may miss a region that the whole grid has.
+struct RegionSelection {
+  long count = 0;
+  std::string empty_error;
+};
+
 /// Boundary faces whose three nodes are all in the region. Throws when the region holds no
-/// boundary face or holds interior faces (a traction acts on the surface only).
+/// boundary face (on a rank's part: the whole grid's is checked over the ranks) or holds
+/// interior faces (a traction acts on the surface only).
 std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
                                                 vtkUnstructuredGrid& mesh,
                                                 const std::string& where);
@@ -53,6 +61,12 @@ void apply_initial_state(const Scene& scene, double sigma, const ElasticConstant
 /// exact integral of t N_i over a linear triangle of the reference surface. Called by the
 /// integrator after each half kick; books the work done on the body by tractions and by the
 /// reactions at constrained components.
+class Boundary;
+/// The boundary's selections and those of the initial velocities' regions
+/// ([initial.NAME]), for the check over the ranks (Simulation::decompose).
+std::vector<RegionSelection> region_selections(const Scene& scene, vtkUnstructuredGrid& mesh,
+                                               const Boundary& boundary);
+
 class Boundary {
  public:
   /// Selects every region and marks the grid's `fixed` bits. Without [boundary.*] sections, a
@@ -84,6 +98,11 @@ class Boundary {
   void keep_nodes(const std::vector<char>& owned);
   bool empty() const { return constraints_.empty() && loads_.empty(); }
 
+  /// Per region that must select something: how much this mesh's selection holds (faces or
+  /// nodes), and the error if the whole grid's holds nothing. A rank's part may miss a region
+  /// (its count is 0 there); Simulation::decompose sums the counts over the ranks.
+  const std::vector<RegionSelection>& selections() const { return selections_; }
+
   /// One line per boundary: name, type, nodes (faces), for the run log.
   const std::vector<std::string>& description() const { return description_; }
 
@@ -108,6 +127,7 @@ class Boundary {
   std::vector<Constrained> constraints_;
   std::vector<Loaded> loads_;
   std::vector<std::string> description_;
+  std::vector<RegionSelection> selections_;
   ExactSum traction_work_, reaction_work_;
 };
 

@@ -102,14 +102,17 @@ MassScaling scale_masses(const Grid& grid, ElementData& el, const ElasticConstan
     const double q = target / (kCfl * s.altitude / c.c_p);
     el.mass_scale[e] = std::max(1.0, q * q + 2.0 * s.xi * q);
   }
+  ExactSum mass, added;  // (exact: a decomposed run's report adds the ranks' to the same bits)
   for (vtkIdType e = 0; e < ne; ++e) {
     const double m0 = rho0 * el.V0[e], f = el.mass_scale[e];
-    m.mass += m0;
+    mass.add(m0);
     if (f == 1.0) continue;
     ++m.elements;
-    m.added += (f - 1.0) * m0;
+    added.add((f - 1.0) * m0);
     if (f > m.largest) m.largest = f, m.element = e;
   }
+  m.mass = mass.value();
+  m.added = added.value();
   return m;
 }
 

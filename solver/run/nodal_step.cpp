@@ -42,8 +42,8 @@ bool shape(const double* x, const vtkIdType* n, double& V, Mat3& GtG) {
 }  // namespace
 
 StableStep NodalStepBound::operator()(const Grid& grid, const ElementData& el,
-                                                  const ElasticConstants& c, double cfl,
-                                                  Update update) {
+                                      const ElasticConstants& c, double cfl, Update update,
+                                      const std::vector<char>* counted) {
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double* x = grid.x();
   const vtkIdType* cells = grid.cells();
@@ -90,6 +90,7 @@ StableStep NodalStepBound::operator()(const Grid& grid, const ElementData& el,
   best.dt = inf;
   for (vtkIdType i = 0; i < np; ++i) {
     if (!(node_k_[i] > 0) || !(m[i] > 0)) continue;  // a node of no element
+    if (counted && !(*counted)[i]) continue;          // a ghost (decomposed runs)
     const double omega = std::sqrt(node_k_[i] / m[i]);
     const double xi = node_c_[i] / (2.0 * m[i] * omega);
     const double dt = cfl * (2.0 / omega) * (std::sqrt(1.0 + xi * xi) - xi);

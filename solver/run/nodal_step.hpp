@@ -38,9 +38,13 @@ class NodalStepBound {
   /// One pass over the elements (threads; none for masses) and one over the nodes in order:
   /// the same bits on any thread count. Scratch arrays grow with the grid, never shrink.
   /// dt = cfl min_i dt_i, with the node that sets it (the lowest id on ties), its frequency
-  /// bound omega_i and damping ratio xi_i; element and altitude are not set.
+  /// bound omega_i and damping ratio xi_i; element and altitude are not set. `counted`, if
+  /// given, is 1 for the nodes to take the minimum over: a decomposed run's owned nodes, which
+  /// hold all their cells (a ghost's sums miss other ranks' cells); each owned node's sum runs
+  /// over its cells in the serial cell order, so it has the serial bits.
   StableStep operator()(const Grid& grid, const ElementData& elements, const ElasticConstants& c,
-                    double cfl, Update update = Update::shapes);
+                        double cfl, Update update = Update::shapes,
+                        const std::vector<char>* counted = nullptr);
 
  private:
   std::vector<double> k0_, c0_, t0_;     // per element, at the first call: k_e, c_e, V sum |g|^2

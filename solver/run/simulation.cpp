@@ -88,6 +88,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   lump_masses(grid_, elements_, constants_.rho0);
   apply_initial_state(scene, sigma_, constants_, grid_, reference_mesh);
   boundary_.impose_velocities(grid_, 0.0);
+  selections_ = region_selections(scene, reference_mesh, boundary_);
 
   // The load sigma/sigma_c as field data, so that frames rendered later from the VTU files
   // can be labelled with it (render/); a body at rest has no such load.
@@ -155,15 +156,34 @@ void Simulation::decompose(Halo& halo) {
     const std::string why = c->decomposed_refusal();
     BRITTLE_CHECK(why.empty(), why);
   }
-  // The nodal sums need every cell at a node, a rank holds one ghost layer of them.
-  BRITTLE_CHECK(scene_.run.step_bound == RunParams::StepBound::altitude,
-                "run.step_bound = nodal runs on one process for now (expected a run without "
-                "mpirun, or run.step_bound = altitude)");
-  // Its report sums the rank's cells, ghosts included.
-  BRITTLE_CHECK(scene_.run.mass_scaling == 0,
-                "run.mass_scaling runs on one process for now (expected a run without mpirun, "
-                "or run.mass_scaling = 0)");
   halo_ = &halo;
+  // A region may miss this rank's part: the whole grid's selection must not be empty.
+  for (const RegionSelection& r : selections_) BRITTLE_CHECK(halo.sum(r.count) > 0, r.empty_error);
+  // Mass scaling: every rank scaled its cells, ghosts too, as serial does (each cell on its
+  // own), so an owned node's mass is the serial one; the report counts owned cells only.
+  if (mass_scaling_.target > 0) {
+    std::vector<ExactSum> sums(2);  // the mass before, the mass added
+    long scaled = 0;
+    double largest = 1;
+    vtkIdType element = -1;
+    for (vtkIdType e = 0; e < grid_.num_cells(); ++e) {
+      if (!halo.owns_cell(e)) continue;
+      const double m0 = constants_.rho0 * elements_.V0[e], f = elements_.mass_scale[e];
+      sums[0].add(m0);
+      if (f == 1.0) continue;
+      ++scaled;
+      sums[1].add((f - 1.0) * m0);
+      if (f > largest) largest = f, element = halo.global_cell()[e];
+    }
+    halo.sum(sums);
+    double smallest = -largest;  // the largest factor, the lowest global cell on ties
+    halo.min_with_id(smallest, element);
+    mass_scaling_.elements = halo.sum(scaled);
+    mass_scaling_.mass = sums[0].value();
+    mass_scaling_.added = sums[1].value();
+    mass_scaling_.largest = -smallest;
+    mass_scaling_.element = element;
+  }
   integrator_.set_halo(&halo);
   fracture_.defer_counting();
   boundary_.keep_nodes(halo.owned());
@@ -172,9 +192,26 @@ void Simulation::decompose(Halo& halo) {
   step_distribution_ =
       brittle::step_distribution(grid_, elements_, constants_, scene_.run.cfl, halo);
   StableStep stable = stable_step();
-  vtkIdType element = stable.element >= 0 ? halo.global_cell()[stable.element] : -1;
-  halo.min_with_id(stable.dt, element);
+  reduce_step(stable);
   dt_ = initial_dt_ = stable.dt;
+}
+
+void Simulation::reduce_step(StableStep& s) const {
+  if (s.node < 0 && scene_.run.step_bound == RunParams::StepBound::altitude) {
+    vtkIdType element = s.element >= 0 ? halo_->global_cell()[s.element] : -1;
+    halo_->min_with_id(s.dt, element);
+    s.element = element;  // (altitude and xi are this rank's: messages only)
+    return;
+  }
+  const double mine = s.dt;
+  vtkIdType node = s.node >= 0 ? halo_->global_node()[s.node] : -1;
+  halo_->min_with_id(s.dt, node);
+  // The owner of the node that sets the step sends its frequency bound and damping ratio.
+  std::vector<double> what;
+  if (s.node >= 0 && node == halo_->global_node()[s.node] && mine == s.dt) what = {s.omega, s.xi};
+  const std::vector<double> all = halo_->gather_all(what);
+  if (all.size() >= 2) s.omega = all[0], s.xi = all[1];
+  s.node = node;
 }
 
 void Simulation::step_towards(double until) {
@@ -235,7 +272,7 @@ void Simulation::step_towards(double until) {
   // The nodal bound moves with the masses a split takes from a node: checked at once.
   if (steps_ % kTimeStepCheckInterval == 0)
     check_time_step();
-  else if (scene_.run.step_bound == RunParams::StepBound::nodal && !r.splits.empty())
+  else if (scene_.run.step_bound == RunParams::StepBound::nodal && !global_splits_.empty())
     check_time_step(NodalStepBound::Update::masses);
   clock.lap(own_times_.bookkeeping);
 }
@@ -269,7 +306,8 @@ PhaseTimes Simulation::phases() const {
 StableStep Simulation::stable_step(NodalStepBound::Update update) {
   if (scene_.run.step_bound == RunParams::StepBound::altitude)
     return stable_time_step(grid_, elements_, constants_, scene_.run.cfl);
-  return nodal_step_(grid_, elements_, constants_, scene_.run.cfl, update);
+  return nodal_step_(grid_, elements_, constants_, scene_.run.cfl, update,
+                     halo_ ? &halo_->owned() : nullptr);
 }
 
 StableStep Simulation::nodal_step_bound(double cfl) {
@@ -278,11 +316,7 @@ StableStep Simulation::nodal_step_bound(double cfl) {
 
 void Simulation::check_time_step(NodalStepBound::Update update) {
   StableStep s = stable_step(update);
-  if (halo_) {  // the whole grid's smallest step (ties: the lowest global cell)
-    vtkIdType element = s.element >= 0 ? halo_->global_cell()[s.element] : -1;
-    halo_->min_with_id(s.dt, element);
-    s.element = element;  // (altitude and xi are this rank's: messages only)
-  }
+  if (halo_) reduce_step(s);  // the whole grid's smallest step
   // The nodal bound is the limit at cfl = 1: dt follows it down at once.
   const double trigger =
       scene_.run.step_bound == RunParams::StepBound::nodal ? 0.0 : kReductionTrigger;

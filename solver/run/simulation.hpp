@@ -300,6 +300,10 @@ class Simulation {
   /// The stable step of the grid as it is, by run.step_bound (altitude or nodal; `update`:
   /// what changed for the nodal bound since its last call).
   StableStep stable_step(NodalStepBound::Update update = NodalStepBound::Update::shapes);
+  /// A decomposed run's: the whole grid's smallest step from every rank's (ties: the lowest
+  /// global cell or node), with global ids, and the frequency bound and damping ratio of the
+  /// node that sets it (every rank gets the owner's: the messages have the serial bits).
+  void reduce_step(StableStep& s) const;
   /// The nodal bound of the grid as it is at this cfl, whatever run.step_bound says (one pass
   /// over the elements; `brittle run --dry-run` prints it next to the altitude bound).
   StableStep nodal_step_bound(double cfl);
@@ -332,6 +336,7 @@ class Simulation {
   double dt_ = 0, initial_dt_ = 0, time_ = 0;
   StepDistribution step_distribution_;
   MassScaling mass_scaling_;
+  std::vector<RegionSelection> selections_;  // the regions' selections on this mesh
   long steps_ = 0, dt_reductions_ = 0, substep_cap_steps_ = 0;
   ExactSum damage_dissipated_;  // (the viscous work is kept per element: ForceAssembler)
   double initial_energy_ = 0;
