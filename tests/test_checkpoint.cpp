@@ -442,6 +442,44 @@ TEST(Mpi, DecomposedRunKilledInACheckpointResumesBitwise) {
   expect_same_from(dir / "full", back, 5);
 }
 
+// The facet criterion decomposed (issue 52, item 4): a 2-rank run checkpointed at 3 us resumes
+// on 1, 2 and 3 ranks to 6 us with the serial run's energies, events and tips (the open faces
+// and their tractions travel per cell, each piece giving its owned cells).
+TEST(Mpi, DecomposedFacetRunResumesOnAnyRankCount) {
+  TempDir dir;
+  const std::vector<std::string> overlays{"branching.ini"};
+  const std::vector<std::string> keys{"fracture.criterion=facet", "run.threads=1"};
+  const auto with = [&](std::vector<std::string> sets) {
+    sets.insert(sets.end(), keys.begin(), keys.end());
+    return sets;
+  };
+  Result r = run_brittle(dir, run_args(overlays, dir / "full", with({"run.end_time=6e-6"})));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string err;
+  ASSERT_EQ(run_mpi(dir, 2, run_args(overlays, dir / "part",
+                                     with({"run.end_time=3e-6", "output.checkpoint_interval=1e-6"})),
+                    {}, &err),
+            0)
+      << err;
+  EXPECT_GT(summary(dir / "part").at("splits").get<long>(), 2);
+  for (int ranks : {1, 2, 3}) {
+    SCOPED_TRACE(ranks);
+    const fs::path copy = dir / ("resume" + std::to_string(ranks));
+    fs::copy(dir / "part", copy, fs::copy_options::recursive);
+    const std::vector<std::string> resume{"run", "--resume", copy.string(), "--set",
+                                          "run.end_time=6e-6"};
+    if (ranks == 1) {
+      r = run_brittle(dir, resume);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    } else {
+      ASSERT_EQ(run_mpi(dir, ranks, resume, {}, &err), 0) << err;
+    }
+    EXPECT_GT(summary(copy).at("splits").get<long>(), summary(dir / "part").at("splits").get<long>());
+    for (const char* name : {"energies.csv", "events.csv", "crack_tip.csv", "pattern.json"})
+      EXPECT_TRUE(read_text(dir / "full" / name) == read_text(copy / name)) << name << " differs";
+  }
+}
+
 // Ctrl-C under mpirun (it passes the stop on to the ranks): every rank finishes the same step,
 // the set is written, the summary says interrupted, and the run resumes on as many ranks.
 TEST(Mpi, StopUnderMpirunWritesACheckpointThatResumes) {

@@ -240,6 +240,21 @@ TEST(Decomposed, NodalStepBoundAndMassScalingHaveTheSerialBits) {
   EXPECT_GT(c.splits, 10);
 }
 
+/// The facet criterion (issue 52, item 1): each face decided by the owner of its corner with
+/// the smallest global id, the opened faces agreed over the ranks in the serial order, a
+/// node's groups split by its owner, the splits shared in node order: the serial bits, on
+/// stripes that the crack crosses.
+TEST(Decomposed, FacetCriterionHasTheSerialBits) {
+  Scene s = branching_scene();
+  s.mesh.size = 1e-3;
+  s.fracture.criterion = FractureParams::Criterion::facet;
+  const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
+  EXPECT_GT(c.splits, 10);
+  if (ranks() > 1) {
+    EXPECT_GT(c.shared, 0) << "the crack should split nodes on partition boundaries";
+  }
+}
+
 /// Parts cut by hand along the crack plane: cells above y = 0 in part 0, below in the others
 /// (split at x = L/2 for 3 ranks). The boundary runs through the notch tip and along the whole
 /// straight crack: every split is of a node whose cells lie in two parts.

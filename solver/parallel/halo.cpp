@@ -426,7 +426,8 @@ void Halo::sum(std::vector<ExactSum>& sums) const {
 std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own, Grid& grid,
                                             ForceAssembler& forces, Fracture& fracture,
                                             const std::vector<CohesiveLink>& removed,
-                                            std::vector<GlobalFailure>& failures) {
+                                            std::vector<GlobalFailure>& failures,
+                                            bool by_node) {
   // This rank's splits made local nodes; they are named below in the global order.
   const vtkIdType before = static_cast<vtkIdType>(global_node_.size());
   global_node_.resize(grid.num_points(), -1);
@@ -478,10 +479,15 @@ std::vector<GlobalSplit> Halo::share_splits(const std::vector<SplitRecord>& own,
     splits.push_back(std::move(s));
   }
   std::sort(failures.begin(), failures.end(), node_order);
-  // The serial order (Fracture::candidates): decreasing sigma1, then node id.
-  std::sort(splits.begin(), splits.end(), [](const GlobalSplit& p, const GlobalSplit& q) {
-    return std::tie(q.sigma1, p.a) < std::tie(p.sigma1, q.a);
-  });
+  // The serial order (Fracture::candidates): decreasing sigma1, then node id; or by node id,
+  // a node's splits (all from its owner, in the order made) kept in order.
+  if (by_node)
+    std::stable_sort(splits.begin(), splits.end(),
+                     [](const GlobalSplit& p, const GlobalSplit& q) { return p.a < q.a; });
+  else
+    std::sort(splits.begin(), splits.end(), [](const GlobalSplit& p, const GlobalSplit& q) {
+      return std::tie(q.sigma1, p.a) < std::tie(p.sigma1, q.a);
+    });
   std::size_t next_own = 0;
   std::vector<vtkIdType> cells;
   for (GlobalSplit& s : splits) {

@@ -141,10 +141,13 @@ class Halo {
   /// nodes here (Fracture::apply_remote_split), and the send and receive lists follow.
   /// `removed`: the links this rank removed this step; all ranks' come back in `failures`,
   /// ordered by their nodes' global ids (the event catalogue's order within a step).
+  /// `by_node`: the splits are in node id order instead, each node's in the order made
+  /// (Criterion::splits_in_node_order: the facet criterion's).
   std::vector<GlobalSplit> share_splits(const std::vector<SplitRecord>& own, Grid& grid,
                                         ForceAssembler& forces, Fracture& fracture,
                                         const std::vector<CohesiveLink>& removed,
-                                        std::vector<GlobalFailure>& failures);
+                                        std::vector<GlobalFailure>& failures,
+                                        bool by_node = false);
 
   /// What the splits change (node ids and owners, the send and receive lists) to and from a
   /// checkpoint piece (solver/observers/checkpoint.cpp); the static rest comes from the partition.

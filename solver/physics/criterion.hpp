@@ -41,6 +41,18 @@ struct CriterionInputs {
 /// makes the split (masses, forces, crack faces, the link) and rebuilds K's node table.
 using SplitCells = std::function<void(vtkIdType K, std::vector<vtkIdType> b_cells, double sigma1)>;
 
+/// A decomposed run's view for a criterion (set by Simulation::decompose; the Halo lives in a
+/// layer above): this rank's nodes and cells by global id, and a gather over the ranks. The
+/// vectors are the Halo's and grow with splits.
+struct Decomposition {
+  const std::vector<char>* owned = nullptr;             ///< per local node: 1 if owned here
+  const std::vector<vtkIdType>* global_node = nullptr;  ///< local node -> global
+  const std::vector<vtkIdType>* global_cell = nullptr;  ///< local cell -> global (increasing)
+  std::function<vtkIdType(vtkIdType)> local_cell;       ///< global cell -> local (-1: not here)
+  /// Every rank's values, rank after rank (collective).
+  std::function<std::vector<double>(const std::vector<double>&)> gather_all;
+};
+
 /// A fracture criterion: what it examines each step, which splits it asks for, its state for
 /// the checkpoint, the threshold the element loop lists cells at. Its calls are per step or per
 /// split, never per element (the element loop stays free of virtual calls).
@@ -85,6 +97,17 @@ class Criterion {
 
   /// Empty if a decomposed run (mpirun) can use it, else why not, as the end of a one-line error.
   virtual std::string decomposed_refusal() const { return {}; }
+  /// A decomposed run: the rank's view (Simulation::decompose). Criteria whose candidates are
+  /// nodes ignore it: the owner of a node decides it (Integrator::step keeps owned candidates).
+  virtual void decompose(const Decomposition& d) { (void)d; }
+  /// Whether the candidates are nodes decided by their owner (kept by ownership), or agreed
+  /// over the ranks by the criterion itself (the facet criterion: every rank gets every face).
+  virtual bool decided_by_node_owner() const { return true; }
+  /// The order of a step's splits over the ranks (Halo::share_splits): false, decreasing
+  /// sigma1 then node id (the node criteria's candidates); true, by node id, each node's splits
+  /// in the order they were made (the facet criterion's, which splits the touched nodes in
+  /// ascending id).
+  virtual bool splits_in_node_order() const { return false; }
 };
 
 /// What a criterion is built from besides the scene.

@@ -35,7 +35,9 @@ std::vector<SplitCandidate> FacetCriterion::candidates(const Grid& grid,
                                                        const ForceAssembler& forces,
                                                        const CriterionInputs& in) {
   std::vector<SplitCandidate> found;
-  for (const FacetOpening& o : over(grid, forces, in.root, face_open_, in.may_break))
+  std::vector<FacetOpening> opening = over(grid, forces, in.root, face_open_, in.may_break);
+  if (decomposition_.owned) opening = agree(grid, opening);
+  for (const FacetOpening& o : opening)
     found.push_back(  // (in their order: largest ratio first)
         {grid.cells()[o.face / 4 * 4 + (o.face + 1) % 4], o.ratio, Vec3::UnitY(), o.face});
   return found;
@@ -49,12 +51,28 @@ void FacetCriterion::split(Grid& grid, const ForceAssembler& forces,
   const vtkIdType* cells = grid.cells();
   std::vector<std::pair<vtkIdType, double>> touched;  // (corner, the ratio of its face)
   for (const SplitCandidate& c : candidates) {
+    // (a decomposed run's rank may hold one side of a face: its twin is then -1 here)
     const vtkIdType f = c.face, g = twin(f);
-    face_open_[f] = face_open_[g] = 1;
-    face_traction_[f] = face_traction_[g] = c.sigma1 * strength(f);  // (ratio x strength)
-    for (vtkIdType side : {f, g})
+    double s = strength(f);
+    if (g < 0) {  // the face's strength from its corners' roots, as build() draws it
+      std::array<vtkIdType, 3> r;
+      int n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != f % 4) r[n++] = in.root[cells[f / 4 * 4 + k]];
+      std::sort(r.begin(), r.end());
+      const double* X = grid.X();
+      double centroid[3];
+      for (int a = 0; a < 3; ++a)
+        centroid[a] = (X[3 * r[0] + a] + X[3 * r[1] + a] + X[3 * r[2] + a]) / 3.0;
+      s = strength_of_(centroid);
+    }
+    for (vtkIdType side : {f, g}) {
+      if (side < 0) continue;
+      face_open_[side] = 1;
+      face_traction_[side] = c.sigma1 * s;  // (ratio x strength)
       for (int k = 0; k < 4; ++k)
         if (k != side % 4) touched.emplace_back(cells[side / 4 * 4 + k], c.sigma1);
+    }
   }
   std::sort(touched.begin(), touched.end(), [](const auto& a, const auto& b) {
     return std::tie(a.first, b.second) < std::tie(b.first, a.second);
@@ -64,6 +82,7 @@ void FacetCriterion::split(Grid& grid, const ForceAssembler& forces,
     if (i > 0 && touched[i].first == touched[i - 1].first) continue;
     const vtkIdType K = touched[i].first;
     if (!in.may_break(K)) continue;
+    if (decomposition_.owned && !(*decomposition_.owned)[K]) continue;  // its owner splits it
     const int n = groups(forces, face_open_, K, group);
     if (n < 2) continue;
     std::vector<std::vector<vtkIdType>> of_group(n);
@@ -73,6 +92,49 @@ void FacetCriterion::split(Grid& grid, const ForceAssembler& forces,
     for (int g = 1; g < n; ++g)  // the first group keeps K (entries are in cell order)
       split(K, std::move(of_group[g]), touched[i].second);
   }
+}
+
+std::vector<FacetOpening> FacetCriterion::agree(const Grid& grid,
+                                               const std::vector<FacetOpening>& mine) const {
+  const Decomposition& d = decomposition_;
+  const std::vector<vtkIdType>&gnode = *d.global_node, &gcell = *d.global_cell;
+  const vtkIdType* cells = grid.cells();
+  // Mine: the faces whose corner with the smallest global id this rank owns, as (ratio, the
+  // global id of the side in the smaller cell, of the other side). Local cell order is the
+  // global one, so the smaller local cell is the smaller global cell.
+  std::vector<double> wire;
+  for (const FacetOpening& o : mine) {
+    const vtkIdType f = o.face, e = f / 4;
+    vtkIdType lowest = -1;
+    for (int k = 0; k < 4; ++k)
+      if (k != f % 4) {
+        const vtkIdType p = cells[4 * e + k];
+        if (lowest < 0 || gnode[p] < gnode[lowest]) lowest = p;
+      }
+    if (!(*d.owned)[lowest]) continue;
+    const vtkIdType g = twin_[f];
+    wire.insert(wire.end(), {o.ratio, double(4 * gcell[e] + f % 4),
+                             double(4 * gcell[g / 4] + g % 4)});
+  }
+  const std::vector<double> all = d.gather_all(wire);
+  struct Global {
+    double ratio;
+    vtkIdType low, high;
+  };
+  std::vector<Global> faces;
+  for (std::size_t i = 0; i + 2 < all.size(); i += 3)
+    faces.push_back({all[i], static_cast<vtkIdType>(all[i + 1]), static_cast<vtkIdType>(all[i + 2])});
+  std::sort(faces.begin(), faces.end(), [](const Global& a, const Global& b) {
+    return std::tie(b.ratio, a.low) < std::tie(a.ratio, b.low);
+  });  // over()'s order: largest ratio first, ties by face id
+  std::vector<FacetOpening> out;
+  for (const Global& g : faces) {
+    if (const vtkIdType e = d.local_cell(g.low / 4); e >= 0)
+      out.push_back({4 * e + g.low % 4, g.ratio});
+    else if (const vtkIdType n = d.local_cell(g.high / 4); n >= 0)
+      out.push_back({4 * n + g.high % 4, g.ratio});
+  }
+  return out;
 }
 
 double FacetCriterion::link_force(const std::vector<CrackFace>& faces) const {
@@ -91,8 +153,10 @@ void FacetCriterion::state(StateReader& ar) { io_all(ar, face_open_, face_tracti
 void FacetCriterion::recut(const Criterion& src, const std::vector<vtkIdType>& cell_from,
                            vtkIdType) {
   const auto& from = static_cast<const FacetCriterion&>(src);  // (the same scene's criterion)
-  face_open_.assign(4 * cell_from.size(), 0);  // faces by their cell and corner
-  face_traction_.assign(4 * cell_from.size(), 0.0);
+  // Faces by their cell and corner. A cell with no source keeps what it holds: a decomposed
+  // checkpoint's pieces are absorbed one after the other, each giving its owned cells.
+  face_open_.resize(4 * cell_from.size(), 0);
+  face_traction_.resize(4 * cell_from.size(), 0.0);
   for (std::size_t e = 0; e < cell_from.size(); ++e)
     if (const vtkIdType s = cell_from[e]; s >= 0) {
       std::copy_n(from.face_open_.begin() + 4 * s, 4, face_open_.begin() + 4 * e);

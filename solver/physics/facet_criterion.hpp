@@ -88,12 +88,21 @@ class FacetCriterion : public Criterion {
   void state(StateReader& ar) override;
   void recut(const Criterion& src, const std::vector<vtkIdType>& cell_from,
              vtkIdType num_points) override;
+  /// facet: none (docs/parallel.md, "The facet criterion on many ranks"); the criteria that
+  /// read stresses beyond a face's two cells need more than one ghost layer: refused.
   std::string decomposed_refusal() const override {
-    // A face between two ranks' cells, and the groups of a node's cells, are not exchanged.
+    if (name_ == "facet") return {};
     return "fracture.criterion = " + name_ +
-           " runs on one process for now (expected a run without mpirun, or "
-           "fracture.criterion = nodal-stress)";
+           " reads cells beyond one ghost layer and runs on one process for now (expected a "
+           "run without mpirun, or fracture.criterion = facet or nodal-stress)";
   }
+  /// Decomposed: each face is decided by the owner of its corner with the smallest global id
+  /// (it holds both cells, with the serial stresses); the faces that open are gathered on
+  /// every rank in the serial order, every rank opens the sides it holds, and the owner of a
+  /// node splits it.
+  void decompose(const Decomposition& d) override { decomposition_ = d; }
+  bool decided_by_node_owner() const override { return false; }
+  bool splits_in_node_order() const override { return true; }
 
   /// Per face 4 e + j: open (1) or not, and the effective traction it opened at [Pa].
   const std::vector<std::uint8_t>& open_faces() const { return face_open_; }
@@ -125,6 +134,9 @@ class FacetCriterion : public Criterion {
   double weakest_ = 0;
   double sigma_c_ = 0;                    // a link face with no face of its own (link_force)
   bool traction_link_ = false;            // fracture.facet_link = traction
+  /// The faces over their strength of every rank, in the serial order, by their local sides.
+  std::vector<FacetOpening> agree(const Grid& grid, const std::vector<FacetOpening>& mine) const;
+  Decomposition decomposition_;           // (owned == nullptr: one process)
   std::vector<std::uint8_t> face_open_;   // 4 per cell, face 4 e + j open (both sides)
   std::vector<double> face_traction_;     // the effective traction it opened at [Pa]
 };

@@ -46,6 +46,10 @@ class Fracture {
   std::vector<SplitRecord> split(Grid& grid, const ElementData& elements, ForceAssembler& forces,
                                  const std::vector<SplitCandidate>& candidates);
 
+  /// A decomposed run: the rank's view, for the criterion (Criterion::decompose).
+  void decompose(const Decomposition& d) {
+    if (criterion_) criterion_->decompose(d);
+  }
   /// Splits without counting them in splits(), crack_area() and the tip (a decomposed run
   /// counts every rank's splits in the global order: count_split).
   void defer_counting() { count_splits_ = false; }

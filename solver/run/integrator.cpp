@@ -341,7 +341,9 @@ StepReport Integrator::step(double t, double dt) {
   if (fracture_.enabled()) {  // (2.10)-(2.12), links (2.6)
     fracture_.set_time(t + dt);  // the splits of this step happen at t(n+1)
     std::vector<SplitCandidate> over = fracture_.candidates(grid_, forces_);
-    if (halo_)  // the owner decides: a ghost's average (2.10) lacks cells of other ranks
+    // the owner decides: a ghost's average (2.10) lacks cells of other ranks (the facet
+    // criterion agrees on its faces over the ranks itself)
+    if (halo_ && fracture_.criterion()->decided_by_node_owner())
       std::erase_if(over, [this](const SplitCandidate& c) { return !halo_->owned()[c.node]; });
     clock.lap(times_.split_scan);
     if (!over.empty()) r.splits = fracture_.split(grid_, elements_, forces_, over);

@@ -176,7 +176,10 @@ void Fracture::recut(const Fracture& src, const Recut& r) {
 
 void Damage::recut(const Damage& src, const Recut& r, vtkIdType num_points) {
   step_index_ = src.step_index_;
-  for (std::size_t e = 0; e < r.cell_from.size(); ++e)
+  // (a run without damage keeps no per-cell arrays: nothing to take)
+  const bool per_cell = undamaged_energy_.size() == r.cell_from.size() &&
+                        !src.undamaged_energy_.empty();
+  for (std::size_t e = 0; per_cell && e < r.cell_from.size(); ++e)
     if (const vtkIdType s = r.cell_from[e]; s >= 0) {
       undamaged_energy_[e] = src.undamaged_energy_[s];
       evaluated_at_[e] = src.evaluated_at_[s];

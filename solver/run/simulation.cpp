@@ -157,6 +157,10 @@ void Simulation::decompose(Halo& halo) {
     BRITTLE_CHECK(why.empty(), why);
   }
   halo_ = &halo;
+  fracture_.decompose(Decomposition{
+      &halo.owned(), &halo.global_node(), &halo.global_cell(),
+      [&halo](vtkIdType global) { return halo.local_cell(global); },
+      [&halo](const std::vector<double>& mine) { return halo.gather_all(mine); }});
   // A region may miss this rank's part: the whole grid's selection must not be empty.
   for (const RegionSelection& r : selections_) BRITTLE_CHECK(halo.sum(r.count) > 0, r.empty_error);
   // Mass scaling: every rank scaled its cells, ghosts too, as serial does (each cell on its
@@ -245,7 +249,7 @@ void Simulation::step_towards(double until) {
   std::vector<GlobalFailure> failures;
   if (halo_ && fracture_.enabled()) {
     global_splits_ = halo_->share_splits(r.splits, grid_, assembler_, fracture_, links_.removed(),
-                                         failures);
+                                         failures, fracture_.criterion()->splits_in_node_order());
   } else if (!halo_) {
     const double* X = grid_.X();
     for (const CohesiveLink& l : links_.removed())
