@@ -2,7 +2,8 @@
 # The byte check (issue 39; docs/performance.md): runs the shipped scenes' cases with one
 # brittle binary into OUT, one directory per case. Compare two binaries' outputs with
 # bench/bytecheck/compare.sh OUT_A OUT_B (every CSV, VTU, PVTU, PVD and events file, byte for
-# byte). Takes about 5 minutes on 2 cores.
+# byte). Takes about 6 minutes on 2 cores. The last case (glass-mpi3, since issue 52) is the
+# facet criterion on 3 ranks.
 #   bash bench/bytecheck/run.sh build/release/app/brittle /tmp/bytes-new
 set -euo pipefail
 bin=$(realpath "$1"); out=$2
@@ -29,3 +30,6 @@ echo "cm-checkpoint resumed"
 rm -rf "$out/cm-mpi2"
 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 "$bin" run scenes/cm.ini --set run.threads=1 --out "$out/cm-mpi2" > "$out/cm-mpi2.log" 2>&1
 echo "cm-mpi2 done"
+rm -rf "$out/glass-mpi3"
+OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 3 "$bin" run scenes/glass-branching.ini --set run.threads=1 --set mesh.band_size=1e-3 --set run.end_time=60e-6 --out "$out/glass-mpi3" > "$out/glass-mpi3.log" 2>&1
+echo "glass-mpi3 done"
