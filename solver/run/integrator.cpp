@@ -102,18 +102,28 @@ MassScaling scale_masses(const Grid& grid, ElementData& el, const ElasticConstan
     const double q = target / (kCfl * s.altitude / c.c_p);
     el.mass_scale[e] = std::max(1.0, q * q + 2.0 * s.xi * q);
   }
-  ExactSum mass, added;  // (exact: a decomposed run's report adds the ranks' to the same bits)
-  for (vtkIdType e = 0; e < ne; ++e) {
-    const double m0 = rho0 * el.V0[e], f = el.mass_scale[e];
-    mass.add(m0);
-    if (f == 1.0) continue;
-    ++m.elements;
-    added.add((f - 1.0) * m0);
-    if (f > m.largest) m.largest = f, m.element = e;
-  }
-  m.mass = mass.value();
-  m.added = added.value();
+  const MassScalingSums sums = mass_scaling_sums(el, rho0);
+  m.elements = sums.elements;
+  m.mass = sums.mass.value();
+  m.added = sums.added.value();
+  m.largest = sums.largest;
+  m.element = sums.element;
   return m;
+}
+
+MassScalingSums mass_scaling_sums(const ElementData& el, double rho0, const std::uint8_t* counted,
+                                  const vtkIdType* cell_id) {
+  MassScalingSums s;
+  for (std::size_t e = 0; e < el.mass_scale.size(); ++e) {
+    if (counted && !counted[e]) continue;
+    const double m0 = rho0 * el.V0[e], f = el.mass_scale[e];
+    s.mass.add(m0);
+    if (f == 1.0) continue;
+    ++s.elements;
+    s.added.add((f - 1.0) * m0);
+    if (f > s.largest) s.largest = f, s.element = cell_id ? cell_id[e] : static_cast<vtkIdType>(e);
+  }
+  return s;
 }
 
 StepDistribution step_distribution(const Grid& grid, const ElementData& el,

@@ -79,6 +79,19 @@ struct MassScaling {
   double largest = 1;         ///< the largest factor s_e
   vtkIdType element = -1;     ///< its element
 };
+/// What mass scaling added over the cells with counted[e] != 0 (all if null): the mass and the
+/// mass added as exact sums (a decomposed run adds the ranks' to the serial bits), the cells
+/// scaled, the largest factor and its cell (named by cell_id[e] if given; the first on ties).
+struct MassScalingSums {
+  ExactSum mass, added;
+  long elements = 0;
+  double largest = 1;
+  vtkIdType element = -1;
+};
+MassScalingSums mass_scaling_sums(const ElementData& elements, double rho0,
+                                  const std::uint8_t* counted = nullptr,
+                                  const vtkIdType* cell_id = nullptr);
+
 /// Fills elements.mass_scale (before the masses are lumped). Bitwise the same on any thread
 /// count (each element on its own; the sums in cell order).
 MassScaling scale_masses(const Grid& grid, ElementData& elements, const ElasticConstants& c,

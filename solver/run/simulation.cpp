@@ -166,23 +166,15 @@ void Simulation::decompose(Halo& halo) {
   // Mass scaling: every rank scaled its cells, ghosts too, as serial does (each cell on its
   // own), so an owned node's mass is the serial one; the report counts owned cells only.
   if (mass_scaling_.target > 0) {
-    std::vector<ExactSum> sums(2);  // the mass before, the mass added
-    long scaled = 0;
-    double largest = 1;
-    vtkIdType element = -1;
-    for (vtkIdType e = 0; e < grid_.num_cells(); ++e) {
-      if (!halo.owns_cell(e)) continue;
-      const double m0 = constants_.rho0 * elements_.V0[e], f = elements_.mass_scale[e];
-      sums[0].add(m0);
-      if (f == 1.0) continue;
-      ++scaled;
-      sums[1].add((f - 1.0) * m0);
-      if (f > largest) largest = f, element = halo.global_cell()[e];
-    }
+    const MassScalingSums mine = mass_scaling_sums(elements_, constants_.rho0,
+                                                   halo.owned_cells().data(),
+                                                   halo.global_cell().data());
+    std::vector<ExactSum> sums{mine.mass, mine.added};
     halo.sum(sums);
-    double smallest = -largest;  // the largest factor, the lowest global cell on ties
+    double smallest = -mine.largest;  // the largest factor, the lowest global cell on ties
+    vtkIdType element = mine.element;
     halo.min_with_id(smallest, element);
-    mass_scaling_.elements = halo.sum(scaled);
+    mass_scaling_.elements = halo.sum(mine.elements);
     mass_scaling_.mass = sums[0].value();
     mass_scaling_.added = sums[1].value();
     mass_scaling_.largest = -smallest;
