@@ -157,8 +157,8 @@ std::string part_path(const std::string& directory, int rank) {
 
 constexpr const char* kPartIds = "brittle_part";  // field data: whole nodes, cells, parts, rank
 constexpr const char* kPartSignature = "brittle_part_mesh";
-constexpr const char* kHolders = "brittle_holders";  // cell data, 5 ranks, -1 padded
-constexpr int kMaxHolders = 5;                       // a cell's part and its 4 nodes' owners
+constexpr const char* kHolders = "brittle_holders";  // cell data, the most holders, -1 padded
+constexpr const char* kReach = "brittle_part_reach";  // field data: layers, distance
 
 template <class Array, class T>
 void add_values(vtkFieldData* data, const char* name, const std::vector<T>& values,
@@ -179,13 +179,19 @@ void write_part(LocalPart& part, int rank, const std::string& signature, const s
   add_values<vtkIntArray>(mesh.GetPointData(), "owner", part.owner);
   add_values<vtkIdTypeArray>(mesh.GetCellData(), "global_cell", part.global_cell);
   add_values<vtkIntArray>(mesh.GetCellData(), "cell_part", part.cell_part);
+  std::int64_t most = 1;  // (a cell's part, its nodes' owners and the reach's parts)
+  for (std::size_t i = 0; i + 1 < part.holder_start.size(); ++i)
+    most = std::max(most, part.holder_start[i + 1] - part.holder_start[i]);
   std::vector<int> holders;
   for (std::size_t i = 0; i + 1 < part.holder_start.size(); ++i)
-    for (int k = 0; k < kMaxHolders; ++k) {
+    for (std::int64_t k = 0; k < most; ++k) {
       const std::int64_t h = part.holder_start[i] + k;
       holders.push_back(h < part.holder_start[i + 1] ? part.holders[h] : -1);
     }
-  add_values<vtkIntArray>(mesh.GetCellData(), kHolders, holders, kMaxHolders);
+  add_values<vtkIntArray>(mesh.GetCellData(), kHolders, holders, static_cast<int>(most));
+  add_values<vtkDoubleArray>(mesh.GetFieldData(), kReach,
+                             std::vector<double>{double(part.reach.layers), part.reach.distance},
+                             2);
   add_values<vtkIdTypeArray>(
       mesh.GetFieldData(), kPartIds,
       std::vector<vtkIdType>{part.whole_nodes, part.whole_cells, part.parts, rank}, 4);
@@ -243,7 +249,11 @@ LocalPart read_part(const Scene& scene, int rank, int ranks) {
   auto owner = take(part.mesh->GetPointData(), "owner", np, 1, path);
   auto global_cell = take(part.mesh->GetCellData(), "global_cell", nc, 1, path);
   auto cell_part = take(part.mesh->GetCellData(), "cell_part", nc, 1, path);
-  auto holders = take(part.mesh->GetCellData(), kHolders, nc, kMaxHolders, path);
+  vtkDataArray* held = part.mesh->GetCellData()->GetArray(kHolders);
+  const int most = held ? held->GetNumberOfComponents() : 1;
+  auto holders = take(part.mesh->GetCellData(), kHolders, nc, most, path);
+  auto reach = take(field, kReach, 1, 2, path);
+  part.reach = GhostReach{static_cast<int>(reach->GetComponent(0, 0)), reach->GetComponent(0, 1)};
   for (vtkIdType k = 0; k < np; ++k) {
     part.global_node.push_back(static_cast<vtkIdType>(global_node->GetComponent(k, 0)));
     part.owner.push_back(static_cast<int>(owner->GetComponent(k, 0)));
@@ -253,7 +263,7 @@ LocalPart read_part(const Scene& scene, int rank, int ranks) {
   for (vtkIdType e = 0; e < nc; ++e) {
     part.global_cell.push_back(static_cast<vtkIdType>(global_cell->GetComponent(e, 0)));
     part.cell_part.push_back(static_cast<int>(cell_part->GetComponent(e, 0)));
-    for (int k = 0; k < kMaxHolders; ++k)
+    for (int k = 0; k < most; ++k)
       if (const int h = static_cast<int>(holders->GetComponent(e, k)); h >= 0)
         part.holders.push_back(h);
     part.holder_start.push_back(static_cast<std::int64_t>(part.holders.size()));
@@ -362,7 +372,8 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
       if (rank == 0 && ranks > 1) cell_part = partition_grid(whole, ranks).cell_part;
     });
     MPI_Bcast(cell_part.data(), static_cast<int>(cell_part.size()), MPI_INT, 0, MPI_COMM_WORLD);
-    const Partition partition = partition_from(whole, std::move(cell_part), ranks);
+    const Partition partition = partition_from(whole, std::move(cell_part), ranks,
+                                               ghost_reach(scene, grid_body_sizes(whole)));
     LocalPart part = extract_part(whole, partition, rank);
     add_groups(*mesh, part);
     mesh = nullptr;  // the whole mesh is not needed from here on
@@ -415,7 +426,8 @@ void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::stri
                    const CheckpointHeader& h) {
   const Grid initial(mesh);
   const int parts = static_cast<int>(h.pieces);
-  const Partition partition = partition_grid(initial, parts);  // as that run cut it
+  const Partition partition = partition_grid(  // as that run cut it
+      initial, parts, ghost_reach(whole.scene(), grid_body_sizes(initial)));
   for (int p = 0; p < parts; ++p) {
     LocalPart part = extract_part(initial, partition, p);
     add_groups(mesh, part);
@@ -509,13 +521,20 @@ int partition_command(const std::vector<std::string>& args) {
   if (!out.empty()) std::filesystem::create_directories(out);
   auto mesh = make_mesh(scene);
   Grid grid(*mesh);
-  std::printf("%lld tets, %lld nodes\n", static_cast<long long>(grid.num_cells()),
-              static_cast<long long>(grid.num_points()));
-  std::printf("%6s %10s %9s %12s %12s %14s %12s %11s %16s\n", "ranks", "imbalance", "cut faces",
-              "ghost nodes", "ghost/owned", "redundant tets", "max ghosts", "max neighb.",
-              "max bytes/step");
+  // The ghost cells the scene's criterion reads past the first layer (docs/parallel.md, "Ghost
+  // depth"): the pieces hold them, and a run checks that they do.
+  const GhostReach reach = ghost_reach(scene, grid_body_sizes(grid));
+  std::printf("%lld tets, %lld nodes; ghost reach %d layer%s + %.3g mm (fracture.criterion)\n",
+              static_cast<long long>(grid.num_cells()),
+              static_cast<long long>(grid.num_points()), reach.layers,
+              reach.layers == 1 ? "" : "s", reach.distance * 1e3);
+  std::printf("%6s %10s %9s %12s %12s %14s %12s %12s %11s %16s\n", "ranks", "imbalance",
+              "cut faces", "ghost nodes", "ghost/owned", "redundant tets", "extra ghosts",
+              "max ghosts", "max neighb.", "max bytes/step");
   for (int parts : counts) {
-    const Partition p = partition_grid(grid, parts);
+    const Partition p = partition_grid(grid, parts, reach);
+    long extra = 0;
+    for (const PartStats& s : p.stats) extra += s.extra_ghost_cells;
     long most_ghosts = 0;
     int most_neighbours = 0;
     double worst_ratio = 0;
@@ -525,9 +544,10 @@ int partition_command(const std::vector<std::string>& args) {
       if (s.owned_nodes > 0) worst_ratio = std::max(worst_ratio, double(s.ghost_nodes) / s.owned_nodes);
     }
     // Every step a rank receives the positions and velocities of its ghost nodes: 6 doubles.
-    std::printf("%6d %10.3f %9ld %11.2f%% %11.2f%% %13.2f%% %12ld %11d %16ld\n", parts,
+    std::printf("%6d %10.3f %9ld %11.2f%% %11.2f%% %13.2f%% %12ld %12ld %11d %16ld\n", parts,
                 p.imbalance(), p.cut_faces, 100 * p.ghost_fraction(), 100 * worst_ratio,
-                100 * p.redundant_fraction(), most_ghosts, most_neighbours, 48 * most_ghosts);
+                100 * p.redundant_fraction(), extra, most_ghosts, most_neighbours,
+                48 * most_ghosts);
     if (out.empty()) continue;
     write_partition_vtu(grid, p, out + "/partition_" + std::to_string(parts) + ".vtu");
     const std::string pieces = out + "/parts_" + std::to_string(parts);

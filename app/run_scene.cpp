@@ -184,12 +184,15 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
   // whole-grid index arrays of this version); rank 0, which meshes or reads the whole plate,
   // 146 MB + 536 B + 196 B. One thread per rank steps at about 10 M tet-updates/s on the build
   // machine.
-  const Partition p = partition_grid(sim.grid(), ranks);
+  const GhostReach reach = ghost_reach(sim.scene(), grid_body_sizes(sim.grid()));
+  const Partition p = partition_grid(sim.grid(), ranks, reach);
   std::snprintf(text, sizeof text,
-                "  over %d ranks (METIS; imbalance %.3f, %.2f%% of the tets computed twice):\n"
-                "  %5s %10s %10s %10s %10s %10s %10s\n",
-                ranks, p.imbalance(), 100 * p.redundant_fraction(), "rank", "own tets",
-                "ghost tets", "own nodes", "ghost nodes", "neighbours", "memory");
+                "  over %d ranks (METIS; imbalance %.3f, %.2f%% of the tets computed twice; "
+                "ghost reach %d layer%s + %.3g mm for the criterion):\n"
+                "  %5s %10s %10s %10s %10s %10s %10s %10s\n",
+                ranks, p.imbalance(), 100 * p.redundant_fraction(), reach.layers,
+                reach.layers == 1 ? "" : "s", reach.distance * 1e3, "rank", "own tets",
+                "ghost tets", "extra", "own nodes", "ghost nodes", "neighbours", "memory");
   out << text;
   long most = 0;
   for (int r = 0; r < ranks; ++r) {
@@ -197,9 +200,9 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
     const double held = double(s.owned_cells + s.ghost_cells);
     const double part = r == 0 ? 146e6 + 536.0 * held + 196.0 * tets : 125e6 + 589.0 * held + 154.0 * tets;
     most = std::max(most, s.owned_cells + s.ghost_cells);
-    std::snprintf(text, sizeof text, "  %5d %10ld %10ld %10ld %10ld %10d %8.2g GB\n", r,
-                  s.owned_cells, s.ghost_cells, s.owned_nodes, s.ghost_nodes, s.neighbours,
-                  part / 1e9);
+    std::snprintf(text, sizeof text, "  %5d %10ld %10ld %10ld %10ld %10ld %10d %8.2g GB\n", r,
+                  s.owned_cells, s.ghost_cells, s.extra_ghost_cells, s.owned_nodes,
+                  s.ghost_nodes, s.neighbours, part / 1e9);
     out << text;
   }
   std::snprintf(text, sizeof text,

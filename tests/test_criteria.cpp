@@ -259,7 +259,8 @@ TEST(NonlocalFacet, AverageOfAUniformFieldIsTheField) {
   std::vector<double> stress(6 * g.num_cells());
   for (vtkIdType e = 0; e < g.num_cells(); ++e)
     std::copy_n(std::array<double, 6>{1e6, 2e6, 3e6, 4e5, 5e5, 6e5}.data(), 6, &stress[6 * e]);
-  NonlocalFacetCriterion c(s, CriterionContext{g, sim.elements(), [&](const double*) {
+  const BodySizes body = body_sizes(g, sim.elements().h_e);
+  NonlocalFacetCriterion c(s, CriterionContext{g, sim.elements(), body, [&](const double*) {
                                                  return s.material.sigma_c;
                                                }, [](vtkIdType) { return true; }});
   EXPECT_EQ(c.length(), 2.5e-3);

@@ -56,9 +56,10 @@ Crossings expect_serial_bits(const Scene& scene, int checks, int steps,
   auto mesh = generate_plate_mesh(scene.geometry, scene.mesh);
   Simulation serial(scene, *mesh);
   const Grid& whole = serial.grid();
+  const GhostReach reach = ghost_reach(scene, grid_body_sizes(whole));  // the criterion's
   const Partition partition = cell_part.empty()
-                                  ? partition_grid(whole, ranks())
-                                  : partition_from(whole, std::move(cell_part), ranks());
+                                  ? partition_grid(whole, ranks(), reach)
+                                  : partition_from(whole, std::move(cell_part), ranks(), reach);
   const LocalPart part = extract_part(whole, partition, rank());
   Simulation local(scene, *part.mesh);
   Halo halo(part);
@@ -252,6 +253,43 @@ TEST(Decomposed, FacetCriterionHasTheSerialBits) {
   EXPECT_GT(c.splits, 10);
   if (ranks() > 1) {
     EXPECT_GT(c.shared, 0) << "the crack should split nodes on partition boundaries";
+  }
+}
+
+/// The criteria that read past a node's cells (issue 52, item 2): a ball of 2.5 mm (nonlocal,
+/// coupled), of 3 x the median element (energy) or a second ring (recovered) across stripes 3 mm
+/// wide, so that the cells a face's owner reads lie on two or three ranks.
+TEST(Decomposed, CriteriaThatReadFurtherHaveTheSerialBits) {
+  using Name = FractureParams::Criterion;
+  for (const Name name : {Name::nonlocal_facet, Name::coupled_facet, Name::recovered_facet,
+                          Name::energy}) {
+    SCOPED_TRACE(static_cast<int>(name));
+    Scene s = branching_scene();
+    s.mesh.size = 1e-3;
+    s.fracture.criterion = name;
+    s.fracture.length = 2.5e-3;
+    const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
+    EXPECT_GT(c.splits, 10);
+  }
+}
+
+/// A part cut without the reach its criterion asks for is refused at the start, in one line.
+TEST(Decomposed, PartWithoutTheCriterionsReachIsRefused) {
+  Scene s = branching_scene();
+  s.mesh.size = 1e-3;
+  s.fracture.criterion = FractureParams::Criterion::nonlocal_facet;
+  s.fracture.length = 2.5e-3;
+  auto mesh = generate_plate_mesh(s.geometry, s.mesh);
+  const Grid whole(*mesh);
+  const LocalPart part = extract_part(whole, partition_grid(whole, ranks()), rank());
+  Simulation local(s, *part.mesh);
+  Halo halo(part);
+  try {
+    local.decompose(halo);
+    ADD_FAILURE() << "a part of one ghost layer was taken for a ball of 2.5 mm";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1 layer(s) of ghost cells and 0 m"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <cstdlib>
@@ -26,6 +27,7 @@
 
 #include "cli_helpers.hpp"
 #include "fixtures.hpp"
+#include "mpi_helpers.hpp"
 #include "element_forces.hpp"
 #include "exact_sum.hpp"
 #include "grid.hpp"
@@ -41,6 +43,8 @@ using brittle_test::TempDir;
 
 namespace brittle {
 namespace {
+
+using namespace mpi_test;
 
 /// The CM plate on a 1 mm mesh (about 3,800 tets).
 Grid small_grid(vtkSmartPointer<vtkUnstructuredGrid>& mesh) {
@@ -108,6 +112,85 @@ TEST(Partition, GhostLayersAreWhatOwnedNodesNeed) {
       total_ghosts += p.stats[r].ghost_nodes;
     }
     EXPECT_DOUBLE_EQ(p.ghost_fraction(), double(total_ghosts) / grid.num_points());
+  }
+}
+
+/// A criterion's ghost reach (issue 52, item 2), counted the slow way: with 2 layers a part
+/// holds every cell touching a node of a first-layer cell; with a distance, every cell whose
+/// centroid lies within it of a point of a held cell (checked at the corners and centroids).
+/// The extracted parts and the holders agree, and the reach adds cells only.
+TEST(Partition, GhostReachHoldsWhatACriterionReads) {
+  vtkSmartPointer<vtkUnstructuredGrid> mesh;
+  const Grid grid = small_grid(mesh);
+  const vtkIdType* conn = grid.cells();
+  const double* X = grid.X();
+  auto centroid = [&](vtkIdType e, int a) {
+    return 0.25 * (X[3 * conn[4 * e] + a] + X[3 * conn[4 * e + 1] + a] +
+                   X[3 * conn[4 * e + 2] + a] + X[3 * conn[4 * e + 3] + a]);
+  };
+  const int parts = 3;
+  const Partition one = partition_grid(grid, parts);
+  for (const GhostReach reach : {GhostReach{2, 0.0}, GhostReach{1, 2.5e-3}}) {
+    SCOPED_TRACE(::testing::Message() << reach.layers << " layers, " << reach.distance << " m");
+    const Partition p = partition_grid(grid, parts, reach);
+    EXPECT_EQ(p.cell_part, one.cell_part);  // the reach does not move the cut
+    for (int r = 0; r < parts; ++r) {
+      std::vector<char> first(grid.num_cells(), 0), need(grid.num_cells(), 0);
+      for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+        first[e] = p.cell_part[e] == r;
+        for (int c = 0; c < 4; ++c) first[e] |= p.node_owner[conn[4 * e + c]] == r;
+      }
+      need = first;
+      if (reach.layers == 2) {
+        std::set<vtkIdType> nodes;
+        for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+          if (first[e])
+            for (int c = 0; c < 4; ++c) nodes.insert(conn[4 * e + c]);
+        for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+          for (int c = 0; c < 4; ++c) need[e] |= nodes.count(conn[4 * e + c]) > 0;
+      } else {  // within the distance of a corner or the centroid of a first-layer cell
+        std::vector<std::array<double, 3>> points;
+        for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+          if (!first[e]) continue;
+          points.push_back({centroid(e, 0), centroid(e, 1), centroid(e, 2)});
+          for (int c = 0; c < 4; ++c)
+            points.push_back({X[3 * conn[4 * e + c]], X[3 * conn[4 * e + c] + 1],
+                              X[3 * conn[4 * e + c] + 2]});
+        }
+        for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+          for (const auto& q : points) {
+            const double d = std::hypot(centroid(e, 0) - q[0], centroid(e, 1) - q[1],
+                                        centroid(e, 2) - q[2]);
+            if (d <= reach.distance) {
+              need[e] = 1;
+              break;
+            }
+          }
+      }
+      const LocalPart part = extract_part(grid, p, r);
+      std::set<vtkIdType> held(part.global_cell.begin(), part.global_cell.end());
+      long missing = 0, extra = 0;
+      for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+        missing += need[e] && !held.count(e);
+        extra += held.count(e) && !first[e];
+        const bool holder = std::binary_search(p.holders.begin() + p.holder_start[e],
+                                               p.holders.begin() + p.holder_start[e + 1], r);
+        ASSERT_EQ(holder, held.count(e) > 0) << "cell " << e;
+      }
+      EXPECT_EQ(missing, 0) << "part " << r;
+      EXPECT_GT(extra, 0) << "part " << r;
+      EXPECT_EQ(p.stats[r].extra_ghost_cells, extra) << "part " << r;
+      EXPECT_EQ(part.reach.layers, reach.layers);
+      EXPECT_EQ(part.reach.distance, reach.distance);
+    }
+  }
+  // No reach: a cell's holders are its part and its corners' owners.
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    std::set<int> h{one.cell_part[e]};
+    for (int c = 0; c < 4; ++c) h.insert(one.node_owner[conn[4 * e + c]]);
+    ASSERT_EQ(std::vector<int>(h.begin(), h.end()),
+              std::vector<int>(one.holders.begin() + one.holder_start[e],
+                               one.holders.begin() + one.holder_start[e + 1]));
   }
 }
 
@@ -210,30 +293,6 @@ TEST(ExactSum, OrderDoesNotMatterAndNothingIsLost) {
   EXPECT_TRUE(std::isnan(nan.value()));
 }
 
-/// mpiexec with the environment Open MPI needs to run as root in CI, oversubscribed.
-/// Waiting ranks yield the core (more ranks than cores: a spinning rank would starve the one it
-/// waits for).
-std::string mpiexec(int ranks) {
-  return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                     "OMPI_MCA_mpi_yield_when_idle=1 ") +
-         quote(BRITTLE_MPIEXEC) + " --oversubscribe -np " + std::to_string(ranks) + " " +
-         quote(BRITTLE_EXE);
-}
-
-int shell(const std::string& command, const fs::path& log) {
-  const int status = std::system((command + " > " + quote(log.string()) + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-/// The summary without what depends on the machine's speed.
-/// (and the output directory it names among the scene's keys).
-nlohmann::json without_timings(nlohmann::json j) {
-  for (const char* key : {"wall_seconds", "tet_updates_per_second", "phases", "decomposition"})
-    j.erase(key);
-  if (j.contains("scene")) j["scene"].erase("output.directory");
-  return j;
-}
-
 /// `mpirun -np 1, 2, 3 brittle study` runs the same runs as the serial command: every run's
 /// energies, events and summary (timings aside) are bitwise those of the serial study.
 TEST(Mpi, StudyOverRanksEqualsTheSerialStudy) {
@@ -266,81 +325,6 @@ TEST(Mpi, StudyOverRanksEqualsTheSerialStudy) {
                 without_timings(nlohmann::json::parse(b)));
     }
   }
-}
-
-/// A frame's arrays by serial id: the serial frame_NNNN.vtu, or the pieces of a decomposed
-/// run put together by their global_node / global_cell arrays.
-struct Frame {
-  std::map<std::string, std::vector<double>> point, cell;  ///< name -> values by serial id
-  std::vector<double> points;                               ///< 3 per node
-  std::vector<vtkIdType> cells;                             ///< 4 serial node ids per cell
-};
-
-vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {
-  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  return reader->GetOutput();
-}
-
-void add_piece(Frame& f, vtkUnstructuredGrid& g, bool pieces) {
-  auto id = [&](vtkDataArray* ids, vtkIdType i) {
-    return pieces ? static_cast<vtkIdType>(ids->GetTuple1(i)) : i;
-  };
-  vtkDataArray* nodes = g.GetPointData()->GetArray("global_node");
-  vtkDataArray* cells = g.GetCellData()->GetArray("global_cell");
-  ASSERT_EQ(pieces, nodes != nullptr);
-  ASSERT_EQ(pieces, cells != nullptr);
-  auto fill = [&](vtkDataSetAttributes* data, vtkDataArray* ids,
-                  std::map<std::string, std::vector<double>>& out) {
-    for (int a = 0; a < data->GetNumberOfArrays(); ++a) {
-      vtkDataArray* array = data->GetArray(a);
-      const std::string name = array->GetName();
-      if (name == "global_node" || name == "global_cell") continue;
-      const int n = array->GetNumberOfComponents();
-      std::vector<double>& values = out[name];
-      for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i) {
-        const auto at = static_cast<std::size_t>(id(ids, i)) * n;
-        if (values.size() < at + n) values.resize(at + n, NAN);
-        for (int k = 0; k < n; ++k) values[at + k] = array->GetComponent(i, k);
-      }
-    }
-  };
-  fill(g.GetPointData(), nodes, f.point);
-  fill(g.GetCellData(), cells, f.cell);
-  for (vtkIdType p = 0; p < g.GetNumberOfPoints(); ++p) {
-    const auto at = static_cast<std::size_t>(3 * id(nodes, p));
-    if (f.points.size() < at + 3) f.points.resize(at + 3, NAN);
-    g.GetPoint(p, &f.points[at]);
-  }
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < g.GetNumberOfCells(); ++c) {
-    const auto at = static_cast<std::size_t>(4 * id(cells, c));
-    if (f.cells.size() < at + 4) f.cells.resize(at + 4, -1);
-    g.GetCellPoints(c, ids);
-    for (int k = 0; k < 4; ++k) f.cells[at + k] = id(nodes, ids->GetId(k));
-  }
-}
-
-/// The last frame of a run directory (pieces if `ranks` > 0).
-Frame last_frame(const fs::path& run, int ranks) {
-  const std::vector<PvdEntry> series = read_pvd((run / "run.pvd").string());
-  EXPECT_FALSE(series.empty());
-  Frame f;
-  if (series.empty()) return f;
-  const fs::path file = series.back().file;
-  if (ranks == 0) {
-    add_piece(f, *read_vtu(file), false);
-    return f;
-  }
-  EXPECT_EQ(file.extension(), ".pvtu");
-  const std::string text = read_text(file);
-  for (int r = 0; r < ranks; ++r) {  // the summary names every piece, which holds its arrays
-    const std::string piece = file.stem().string() + "_r" + std::to_string(r) + ".vtu";
-    EXPECT_TRUE(contains(text, "<Piece Source=\"" + piece + "\"/>")) << text;
-    add_piece(f, *read_vtu(file.parent_path() / piece), true);
-  }
-  return f;
 }
 
 /// `mpirun -np 1, 2, 3 brittle run` writes what the serial run writes, bit for bit: every CSV,

@@ -37,6 +37,7 @@ Halo::Halo(const LocalPart& part) : Halo(part, comm_rank(), comm_size()) {}
 Halo::Halo(const LocalPart& part, int rank, int size)
     : rank_(rank),
       size_(size),
+      reach_(part.reach),
       holder_start_(part.holder_start),
       holders_(part.holders),
       global_cell_(part.global_cell),

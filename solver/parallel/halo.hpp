@@ -70,6 +70,8 @@ class Halo {
              const std::vector<vtkIdType>& mother, const std::vector<int>& initial_owner);
 
   int rank() const { return rank_; }
+  /// What the parts hold past their owned nodes' cells (the partition's).
+  const GhostReach& reach() const { return reach_; }
   int size() const { return size_; }
   /// Local node -> global node, and whether this rank owns it (grows with splits).
   const std::vector<vtkIdType>& global_node() const { return global_node_; }
@@ -180,6 +182,7 @@ class Halo {
   bool holds(vtkIdType local_cell, int rank) const;
 
   int rank_ = 0, size_ = 1;
+  GhostReach reach_;
   long bytes_sent_ = 0, messages_ = 0;
   std::vector<std::int64_t> holder_start_;  ///< per local cell: the ranks holding it (CSR)
   std::vector<int> holders_;

@@ -20,25 +20,26 @@ double coupled_length(const Scene& scene) {
 namespace {
 
 /// coupled_length, refused (one line) when no body can use it.
-double checked_length(const Scene& scene, const Grid& grid) {
+double checked_length(const Scene& scene, const BodySizes& body) {
   const double l = coupled_length(scene);
   BRITTLE_CHECK(l > 0 && std::isfinite(l), "fracture.criterion = coupled-facet: the length l = ",
                 l, " m (expected fracture.length > 0, or a material with E, gamma and sigma_c > 0)");
-  check_length_fits(grid, "fracture.length", l);
+  check_length_fits(body, "fracture.length", l);
   return l;
 }
 
 }  // namespace
 
-std::string resolution_warning(const ElementData& elements, double length) {
-  std::vector<double> h = elements.h_e;
-  if (h.empty()) return {};
-  const auto k = h.size() / 20;  // the finest 5 %: where a refined band puts the crack
-  std::nth_element(h.begin(), h.begin() + k, h.end());
-  if (h[k] <= length) return {};
+GhostReach CoupledFacetCriterion::reach(const Scene& scene) {
+  return {1, coupled_length(scene)};  // (the stress average's c^2 l is shorter)
+}
+
+std::string resolution_warning(const BodySizes& body, double length) {
+  const double fine = body.fine_h;  // the finest 5 %: where a refined band puts the crack
+  if (fine <= 0 || fine <= length) return {};
   std::ostringstream w;
   w << "fracture.length: the material length l = " << length * 1e3
-    << " mm is not resolved by this mesh, whose finest elements are " << h[k] * 1e3
+    << " mm is not resolved by this mesh, whose finest elements are " << fine * 1e3
     << " mm (expected elements smaller than l where cracks run: mesh.band_size or mesh.size "
        "below "
     << length * 1e3 << " mm)";
@@ -47,7 +48,7 @@ std::string resolution_warning(const ElementData& elements, double length) {
 
 CoupledFacetCriterion::CoupledFacetCriterion(const Scene& scene, const CriterionContext& context)
     : NonlocalFacetCriterion(scene, context,
-                             kWilliamsPeak * kWilliamsPeak * checked_length(scene, context.grid)),
+                             kWilliamsPeak * kWilliamsPeak * checked_length(scene, context.body)),
       G_min_(2.0 * scene.material.gamma * (1.0 + 1e-9)) {
   name_ = "coupled-facet";
   const double l = coupled_length(scene);

@@ -21,6 +21,9 @@ class CoupledFacetCriterion : public NonlocalFacetCriterion {
   CoupledFacetCriterion(const Scene& scene, const CriterionContext& context);
 
   double energy_length() const { return energy_->epsilon(); }
+  /// Decomposed (docs/parallel.md, "Ghost depth"): a face's owner reads its two cells and the
+  /// ball of radius l about any point of them (the energy's; the stress average's is shorter).
+  static GhostReach reach(const Scene& scene);
   /// The facet criterion's faces, then those whose G_eps(face centroid, face normal) =
   /// C l n . <(T+)^2>_l n / E reaches G_c (EnergyCriterion): in the same order.
   std::vector<SplitCandidate> candidates(const Grid& grid, const ForceAssembler& forces,
@@ -38,6 +41,6 @@ double coupled_length(const Scene& scene);
 
 /// The one-line warning when the finest 5 % of the elements are coarser than `length` (a
 /// material length is resolved only by elements smaller than it), else empty.
-std::string resolution_warning(const ElementData& elements, double length);
+std::string resolution_warning(const BodySizes& body, double length);
 
 }  // namespace brittle

@@ -33,17 +33,45 @@ std::unique_ptr<Criterion> make_criterion(const Scene& scene, const CriterionCon
   return nullptr;
 }
 
-void check_length_fits(const Grid& grid, const char* key, double length) {
+BodySizes body_sizes(const Grid& grid, const std::vector<double>& h_e) {
+  BodySizes b;
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a) lo[a] = INFINITY, hi[a] = -INFINITY;
   const double* X = grid.X();
   for (vtkIdType p = 0; p < grid.num_points(); ++p)
     for (int a = 0; a < 3; ++a)
       lo[a] = std::min(lo[a], X[3 * p + a]), hi[a] = std::max(hi[a], X[3 * p + a]);
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  BRITTLE_CHECK(length <= extent, key, " = ", length, " m is longer than the body, whose largest "
-                "extent is ", extent, " m (expected a length of the material's scale, well "
-                "below the body's)");
+  b.extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (h_e.empty()) return b;
+  std::vector<double> h = h_e;
+  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+  b.median_h = h[h.size() / 2];
+  const auto k = h.size() / 20;  // the finest 5 %
+  std::nth_element(h.begin(), h.begin() + k, h.end());
+  b.fine_h = h[k];
+  return b;
+}
+
+GhostReach ghost_reach(const Scene& scene, const BodySizes& body) {
+  using Mode = FractureParams::Mode;
+  using Name = FractureParams::Criterion;
+  const FractureParams& f = scene.fracture;
+  if (f.mode != Mode::branching) return {};
+  switch (f.criterion) {  // one line per criterion that reads past the cells of its nodes
+    case Name::energy: return EnergyCriterion::reach(scene, body);
+    case Name::nonlocal_facet: return NonlocalFacetCriterion::reach(scene);
+    case Name::coupled_facet: return CoupledFacetCriterion::reach(scene);
+    case Name::recovered_facet: return RecoveredFacetCriterion::reach();
+    case Name::nodal_stress:
+    case Name::facet: break;
+  }
+  return {};
+}
+
+void check_length_fits(const BodySizes& body, const char* key, double length) {
+  BRITTLE_CHECK(length <= body.extent, key, " = ", length, " m is longer than the body, whose "
+                "largest extent is ", body.extent, " m (expected a length of the material's "
+                "scale, well below the body's)");
 }
 
 void sort_in_splitting_order(std::vector<SplitCandidate>& c) {

@@ -41,6 +41,36 @@ struct CriterionInputs {
 /// makes the split (masses, forces, crack faces, the link) and rebuilds K's node table.
 using SplitCells = std::function<void(vtkIdType K, std::vector<vtkIdType> b_cells, double sigma1)>;
 
+/// The whole body's sizes a criterion reads: the same on every rank of a decomposed run (a
+/// rank's part carries its whole mesh's, extract_part), so that a length defaulted from the
+/// mesh, a length refused as longer than the body and a resolution warning are the serial
+/// ones.
+struct BodySizes {
+  double extent = 0;    ///< largest extent of the reference positions [m]
+  double median_h = 0;  ///< median element size h_e [m] (ElementData::h_e)
+  double fine_h = 0;    ///< the finest 5 %'s largest h_e [m]: where a refined band puts cracks
+};
+
+/// The sizes of a whole grid with element sizes h_e (one per cell).
+BodySizes body_sizes(const Grid& grid, const std::vector<double>& h_e);
+
+/// How far past a rank's own nodes a criterion reads (issue 52, item 2; docs/parallel.md,
+/// "Ghost depth"): a rank holds the cells within `layers` rings of cells around its owned nodes
+/// (1: the cells touching them, the layer every run holds; 2: also the cells touching a node of
+/// those), and besides every cell whose reference centroid lies within `distance` of a point of
+/// a cell of the last ring (a ball of that radius about any point the criterion reads there).
+struct GhostReach {
+  int layers = 1;
+  double distance = 0;  ///< [m]
+  /// Whether a part cut with this reach holds what `need` asks for.
+  bool covers(const GhostReach& need) const {
+    return layers >= need.layers && distance >= need.distance;
+  }
+};
+
+/// The reach the scene's criterion asks for (one line per criterion, as make_criterion).
+GhostReach ghost_reach(const Scene& scene, const BodySizes& body);
+
 /// A decomposed run's view for a criterion (set by Simulation::decompose; the Halo lives in a
 /// layer above): this rank's nodes and cells by global id, and a gather over the ranks. The
 /// vectors are the Halo's and grow with splits.
@@ -95,10 +125,9 @@ class Criterion {
   /// does not resolve).
   virtual std::string warning() const { return {}; }
 
-  /// Empty if a decomposed run (mpirun) can use it, else why not, as the end of a one-line error.
-  virtual std::string decomposed_refusal() const { return {}; }
-  /// A decomposed run: the rank's view (Simulation::decompose). Criteria whose candidates are
-  /// nodes ignore it: the owner of a node decides it (Integrator::step keeps owned candidates).
+  /// A decomposed run: the rank's view (Simulation::decompose; its part holds the cells
+  /// ghost_reach asks for). Criteria whose candidates are nodes ignore it: the owner of a node
+  /// decides it (Integrator::step keeps owned candidates).
   virtual void decompose(const Decomposition& d) { (void)d; }
   /// Whether the candidates are nodes decided by their owner (kept by ownership), or agreed
   /// over the ranks by the criterion itself (the facet criterion: every rank gets every face).
@@ -114,6 +143,8 @@ class Criterion {
 struct CriterionContext {
   const Grid& grid;
   const ElementData& elements;
+  /// The whole body's sizes (a decomposed run's part: its whole mesh's).
+  const BodySizes& body;
   /// The strength at reference point X: sigma_c, or a Weibull sample (material.weibull_modulus).
   std::function<double(const double X[3])> strength_at;
   /// Whether node p may break: not fixed, inside fracture.region.
@@ -132,7 +163,7 @@ void split_by_plane(const Grid& grid, const ForceAssembler& forces, const SplitC
 
 /// Refuses a criterion's length (`key`, [m]) that no ball in this body can use: longer than
 /// the body's largest extent (one line naming the key, the length and the extent).
-void check_length_fits(const Grid& grid, const char* key, double length);
+void check_length_fits(const BodySizes& body, const char* key, double length);
 
 /// Decreasing sigma1 (or G_eps), ties by node id: the order the node criteria split in.
 void sort_in_splitting_order(std::vector<SplitCandidate>& c);

@@ -17,22 +17,24 @@ namespace brittle {
 
 namespace {
 
-/// fracture.epsilon, or 3 x the median element size when it is 0.
-double epsilon_of(const Scene& scene, const Grid& grid, const ElementData& elements) {
+/// fracture.epsilon, or 3 x the body's median element size when it is 0.
+double epsilon_of(const Scene& scene, const BodySizes& body) {
   if (scene.fracture.epsilon > 0) {
-    check_length_fits(grid, "fracture.epsilon", scene.fracture.epsilon);
+    check_length_fits(body, "fracture.epsilon", scene.fracture.epsilon);
     return scene.fracture.epsilon;
   }
-  std::vector<double> h = elements.h_e;
-  BRITTLE_CHECK(!h.empty(), "fracture.criterion = energy: the mesh has no cells");
-  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
-  return 3.0 * h[h.size() / 2];
+  BRITTLE_CHECK(body.median_h > 0, "fracture.criterion = energy: the mesh has no cells");
+  return 3.0 * body.median_h;
 }
 
 }  // namespace
 
+GhostReach EnergyCriterion::reach(const Scene& scene, const BodySizes& body) {
+  return {2, epsilon_of(scene, body)};
+}
+
 EnergyCriterion::EnergyCriterion(const Scene& scene, const CriterionContext& context)
-    : EnergyCriterion(context.grid, context.elements, epsilon_of(scene, context.grid, context.elements),
+    : EnergyCriterion(context.grid, context.elements, epsilon_of(scene, context.body),
                       scene.material.E, 2.0 * scene.material.gamma, scene.material.sigma_c,
                       plane_stress_rayleigh_speed(scene.material)) {}
 

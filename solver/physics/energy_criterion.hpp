@@ -60,11 +60,10 @@ class EnergyCriterion : public Criterion {
   void split(Grid& grid, const ForceAssembler& forces,
              const std::vector<SplitCandidate>& candidates, const CriterionInputs& in,
              const SplitCells& split) override;
-  std::string decomposed_refusal() const override {
-    // Its balls reach epsilon, wider than the one ghost layer a rank holds.
-    return "fracture.criterion = energy runs on one process for now (expected a run without "
-           "mpirun, or fracture.criterion = nodal-stress)";
-  }
+  /// Decomposed (docs/parallel.md, "Ghost depth"): the owner of a candidate K reads the fronts
+  /// C beside it (K's cells' corners), their cells and corners K' (2 layers) and the ball of
+  /// radius epsilon about each K'.
+  static GhostReach reach(const Scene& scene, const BodySizes& body);
 
   double epsilon() const { return epsilon_; }
   double E() const { return E_; }

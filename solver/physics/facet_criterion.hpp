@@ -88,16 +88,9 @@ class FacetCriterion : public Criterion {
   void state(StateReader& ar) override;
   void recut(const Criterion& src, const std::vector<vtkIdType>& cell_from,
              vtkIdType num_points) override;
-  /// facet: none (docs/parallel.md, "The facet criterion on many ranks"); the criteria that
-  /// read stresses beyond a face's two cells need more than one ghost layer: refused.
-  std::string decomposed_refusal() const override {
-    if (name_ == "facet") return {};
-    return "fracture.criterion = " + name_ +
-           " reads cells beyond one ghost layer and runs on one process for now (expected a "
-           "run without mpirun, or fracture.criterion = facet or nodal-stress)";
-  }
-  /// Decomposed: each face is decided by the owner of its corner with the smallest global id
-  /// (it holds both cells, with the serial stresses); the faces that open are gathered on
+  /// Decomposed (docs/parallel.md, "The facet criterion on many ranks"): each face is decided
+  /// by the owner of its corner with the smallest global id (it holds both cells, and the cells
+  /// the criterion's reach adds, with the serial stresses); the faces that open are gathered on
   /// every rank in the serial order, every rank opens the sides it holds, and the owner of a
   /// node splits it.
   void decompose(const Decomposition& d) override { decomposition_ = d; }

@@ -12,7 +12,7 @@
 namespace brittle {
 
 Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
-                   CohesiveLinks& links)
+                   CohesiveLinks& links, const BodySizes& body)
     : region_(scene.fracture.region),
       sigma_c_(scene.material.sigma_c),
       rho0_(scene.material.rho0),
@@ -26,7 +26,7 @@ Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elem
   for (vtkIdType p = 0; p < grid.num_points(); ++p) root_[p] = p;
   split_time_.assign(grid.num_points(), std::numeric_limits<double>::quiet_NaN());
   criterion_ = make_criterion(
-      scene, CriterionContext{grid, elements, [this](const double X[3]) { return strength_at(X); },
+      scene, CriterionContext{grid, elements, body, [this](const double X[3]) { return strength_at(X); },
                               [this, &grid](vtkIdType p) {
                                 return !grid.fixed()[p] && may_break(grid, p);
                               }});

@@ -29,7 +29,9 @@ struct SplitRecord {
 /// makes live in CohesiveLinks.
 class Fracture {
  public:
-  Fracture(const Scene& scene, const Grid& grid, const ElementData& elements, CohesiveLinks& links);
+  /// `body`: the whole body's sizes (a decomposed run's part: its whole mesh's).
+  Fracture(const Scene& scene, const Grid& grid, const ElementData& elements, CohesiveLinks& links,
+           const BodySizes& body);
 
   /// What is over the criterion (fracture.criterion) with the element stresses of the last
   /// force computation, in splitting order (the node criteria: decreasing sigma1 or G_eps,

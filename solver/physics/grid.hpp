@@ -33,6 +33,8 @@ inline constexpr const char* crack_tips = "crack_tips";
 /// Field data of a part's mesh: the whole mesh's bounds (6), which region boxes are measured
 /// against (physics/boundary.cpp; written by parallel/partition.cpp's extract_part).
 inline constexpr const char* kWholeBounds = "whole_mesh_bounds";
+/// Field data of a rank's part: the whole mesh's BodySizes (extent, median h_e, finest 5 % h_e).
+inline constexpr const char* kWholeSizes = "whole_mesh_sizes";
 
 /// Owns the vtkUnstructuredGrid and hands out raw contiguous views of its arrays for the
 /// step loop. Views are invalidated when points are appended; call refresh() afterwards.

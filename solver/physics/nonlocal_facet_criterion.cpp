@@ -29,8 +29,12 @@ NonlocalFacetCriterion::NonlocalFacetCriterion(const Scene& scene, const Criteri
   BRITTLE_CHECK(length_ > 0 && std::isfinite(length_),
                 "fracture.criterion = nonlocal-facet: the length l = ", length_,
                 " m (expected fracture.length > 0, or a material with E, gamma and sigma_c > 0)");
-  check_length_fits(context.grid, "fracture.length", length_);
-  warning_ = resolution_warning(context.elements, length_);
+  check_length_fits(context.body, "fracture.length", length_);
+  warning_ = resolution_warning(context.body, length_);
+}
+
+GhostReach NonlocalFacetCriterion::reach(const Scene& scene) {
+  return {1, nonlocal_length(scene)};
 }
 
 void NonlocalFacetCriterion::reset() {

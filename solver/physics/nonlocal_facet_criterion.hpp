@@ -28,6 +28,9 @@ class NonlocalFacetCriterion : public FacetCriterion {
   NonlocalFacetCriterion(const Scene& scene, const CriterionContext& context, double length);
 
   double length() const { return length_; }
+  /// Decomposed (docs/parallel.md, "Ghost depth"): a face's owner reads its two cells (the
+  /// first layer) and the cells within l of their centroids.
+  static GhostReach reach(const Scene& scene);
   /// Averages over the cells within l of each cell's reference centroid (6 per cell): the
   /// values gather() uses, for the cells it computed this step.
   const std::vector<double>& averaged() const { return avg_; }

@@ -33,6 +33,9 @@ class RecoveredFacetCriterion : public FacetCriterion {
                          vtkIdType K, double out[6]);
 
   double hot_threshold(const Grid& grid, const std::vector<vtkIdType>& root) override;
+  /// Decomposed (docs/parallel.md, "Ghost depth"): a face's owner reads its two cells' corners
+  /// (the first layer) and those corners' patches (the second).
+  static GhostReach reach() { return {2, 0.0}; }
 
  protected:
   /// The faces of the hot cells (FacetCriterion's), and for both cells of each the mean of its

@@ -62,6 +62,17 @@ constexpr double kSmallestStepFraction = 0.05;
 /// More steps than this are refused at the start: at 20 M tet-updates/s a 45 k-tet run of that
 /// length takes 2.6 days (docs/scenes.md, guards).
 constexpr double kMaxSteps = 1e8;
+
+/// The whole body's sizes: a rank's part of a decomposed run carries its whole mesh's
+/// (extract_part); else the grid's own.
+BodySizes body_of(vtkUnstructuredGrid& reference_mesh, const Grid& grid,
+                  const ElementData& elements) {
+  if (vtkDataArray* whole = reference_mesh.GetFieldData()->GetArray(kWholeSizes);
+      whole && whole->GetNumberOfComponents() == 3)
+    return {whole->GetComponent(0, 0), whole->GetComponent(0, 1), whole->GetComponent(0, 2)};
+  return body_sizes(grid, elements.h_e);
+}
+
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
@@ -72,10 +83,11 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                  : 0.0),
       grid_(reference_mesh),
       elements_(make_element_data(grid_, constants_, scene.material)),
+      body_(body_of(reference_mesh, grid_, elements_)),
       assembler_(grid_, elements_, constants_),
       links_(CohesiveLaw{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
              grid_.num_points()),
-      fracture_(scene, grid_, elements_, links_),
+      fracture_(scene, grid_, elements_, links_, body_),
       damage_(scene.damage, constants_, scene.material.sigma_c, grid_.num_cells()),
       boundary_(scene, grid_, reference_mesh),
       integrator_(grid_, elements_, assembler_, links_, damage_, fracture_, boundary_),
@@ -152,10 +164,12 @@ CrackFronts Simulation::make_crack_fronts() const {
 
 void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
-  if (const Criterion* c = fracture_.criterion()) {
-    const std::string why = c->decomposed_refusal();
-    BRITTLE_CHECK(why.empty(), why);
-  }
+  // The part must hold the cells the criterion reads (docs/parallel.md, "Ghost depth").
+  const GhostReach need = ghost_reach(scene_, body_), held = halo.reach();
+  BRITTLE_CHECK(held.covers(need), "decomposed run: the parts hold ", held.layers,
+                " layer(s) of ghost cells and ", held.distance, " m past them, and the "
+                "criterion reads ", need.layers, " and ", need.distance,
+                " m (expected parts cut for this scene: brittle partition on it)");
   halo_ = &halo;
   fracture_.decompose(Decomposition{
       &halo.owned(), &halo.global_node(), &halo.global_cell(),

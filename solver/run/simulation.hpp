@@ -320,6 +320,7 @@ class Simulation {
   double sigma_ = 0;
   Grid grid_;
   ElementData elements_;
+  BodySizes body_;  ///< the whole body's (a part's: read from its mesh, extract_part)
   ForceAssembler assembler_;
   CohesiveLinks links_;
   Fracture fracture_;
