@@ -72,9 +72,10 @@ class Progress : public brittle::Observer {
     if (sim.resumed())
       say("brittle: resumed from the checkpoint at t = %.4g s, step %ld\n", sim.time(), sim.steps());
     const brittle::Halo* halo = sim.halo();  // a decomposed run: the whole grid's counts
-    say("brittle: %lld nodes, %lld tets%s, dt = %.4g s, %ld steps to %.4g s\n",
+    cells_ = sim.grid().corners() == 3 ? "triangle" : "tet";
+    say("brittle: %lld nodes, %lld %ss%s, dt = %.4g s, %ld steps to %.4g s\n",
         static_cast<long long>(halo ? halo->initial_nodes() : sim.grid().num_points()),
-        static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()),
+        static_cast<long long>(halo ? halo->cells() : sim.grid().num_cells()), cells_,
         halo ? (" over " + std::to_string(halo->size()) + " ranks").c_str() : "", sim.dt(),
         static_cast<long>(sim.scene().run.end_time / sim.dt() + 0.5), sim.scene().run.end_time);
     if (const brittle::MassScaling& m = sim.mass_scaling(); m.target > 0)
@@ -110,8 +111,8 @@ class Progress : public brittle::Observer {
   }
   void on_finish(const brittle::Simulation& sim, const brittle::RunSummary& s) override {
     if (tty_) std::fputc('\n', stderr);
-    say("brittle: %s: %ld steps in %.2f s, %.3g tet-updates/s\n", s.status.c_str(), s.steps,
-        s.wall_seconds, s.tet_updates_per_second);
+    say("brittle: %s: %ld steps in %.2f s, %.3g %s-updates/s\n", s.status.c_str(), s.steps,
+        s.wall_seconds, s.tet_updates_per_second, cells_);
     if (profile_) {  // shares of the stepping time; output is outside it
       const double total = s.phases.stepping();
       std::string text = "brittle: phases (s, share of stepping):";
@@ -180,6 +181,7 @@ class Progress : public brittle::Observer {
   bool profile_;
   long every_;
   bool tty_ = isatty(STDERR_FILENO);
+  const char* cells_ = "tet";  // what the counts count: tets, or a 2D body's triangles
   std::FILE* log_ = nullptr;
   std::chrono::steady_clock::time_point start_, last_;
 };

@@ -39,6 +39,28 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                   ": fracture.mode = straight follows the paper's notch (y = 0, x >= a) and "
                   "cannot be used with [notch.NAME] sections (expected branching or none)");
   }
+  if (s.mesh.dimension == 2) {  // what 2D runs do not have yet (issue 53; docs/model.md)
+    const auto refuse = [&](bool ok, const char* key, const char* expected) {
+      BRITTLE_CHECK(ok, o.latest({key, "mesh.dimension"}), ": ", key,
+                    " is not available with mesh.dimension = 2 yet (expected ", expected, ")");
+    };
+    refuse(s.fracture.mode == FractureParams::Mode::none ||
+               s.fracture.criterion == FractureParams::Criterion::nodal_stress ||
+               s.fracture.criterion == FractureParams::Criterion::facet,
+           "fracture.criterion", "fracture.criterion = nodal-stress or facet, or fracture.mode = none");
+    refuse(!s.damage.enabled(), "damage.beta1", "damage.beta1 = 0");
+    // (the uniaxial pre-stress (B.6) is a plane-stress state: F33 = b, the element's root)
+    refuse(s.initial.state == InitialParams::State::rest ||
+               s.material.plane == MaterialParams::Plane::stress,
+           "initial.state", "initial.state = rest, or material.plane = stress");
+    refuse(s.mesh.file.empty(), "mesh.file", "the generated plate");
+    refuse(s.run.step_bound == RunParams::StepBound::altitude, "run.step_bound",
+           "run.step_bound = altitude");
+    refuse(s.run.mass_scaling == 0, "run.mass_scaling", "run.mass_scaling = 0");
+    refuse(s.output.checkpoint_interval == 0, "output.checkpoint_interval",
+           "output.checkpoint_interval = 0");
+    refuse(s.mesh.parts.empty(), "mesh.parts", "one process");
+  }
   BRITTLE_CHECK(s.run.mass_scaling <= s.run.end_time, o.latest({"run.mass_scaling", "run.end_time"}),
                 ": run.mass_scaling = ", format_double(s.run.mass_scaling),
                 " s is longer than run.end_time = ", format_double(s.run.end_time),

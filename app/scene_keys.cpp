@@ -220,6 +220,10 @@ const std::vector<Key>& scene_keys() {
                       "seed of the nodes' Weibull strengths (the same seed, the same strengths "
                       "for any thread or rank count)",
                       ">= 0", [](const int& v) { return v >= 0; }));
+    k.push_back(word("material.plane", &Scene::material, &MP::plane,
+                     "the out-of-plane state of a 2D body (docs/model.md, Two dimensions)",
+                     "strain (F33 = 1) | stress (T33 = 0, solved per element)",
+                     {{"strain", MP::Plane::strain}, {"stress", MP::Plane::stress}}));
     // [geometry] — the notched plate (SPEC 1)
     k.push_back(field("geometry.L", &Scene::geometry, &GP::L, "m",
                       "plate length along x (crack direction)", "> 0", positive));
@@ -261,6 +265,13 @@ const std::vector<Key>& scene_keys() {
           return Verdict::ok;
         }));
     k.back().get = [](const Scene& s) -> std::optional<std::string> { return s.mesh.parts; };
+    k.push_back(field("mesh.dimension", &Scene::mesh, &MeP::dimension, "",
+                      "3: tets through the thickness; 2: triangles in the x-y plane, each a prism "
+                      "of mesh.thickness in plane strain or stress (material.plane; issue 53)",
+                      "2 or 3", [](const int& v) { return v == 2 || v == 3; }));
+    k.push_back(field("mesh.thickness", &Scene::mesh, &MeP::thickness, "m",
+                      "a 2D body's thickness, for its masses, areas and energies (0 = geometry.T)",
+                      ">= 0", non_negative));
     k.push_back(field("mesh.size", &Scene::mesh, &MeP::size, "m",
                       "target element size h away from the band", "> 0", positive));
     k.push_back(field("mesh.band", &Scene::mesh, &MeP::band, "m",

@@ -2,17 +2,8 @@
 // of the brittle executable, and a run's files and last frame compared by serial id.
 #pragma once
 
-#include <sys/wait.h>
-
-#include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <map>
-#include <string>
-#include <vector>
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 #include <vtkCellData.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
@@ -20,6 +11,14 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "cli_helpers.hpp"
 #include "output.hpp"
@@ -35,8 +34,9 @@ using brittle_test::read_text;
 /// Waiting ranks yield the core (more ranks than cores: a spinning rank would starve the one it
 /// waits for).
 inline std::string mpiexec(int ranks) {
-  return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                     "OMPI_MCA_mpi_yield_when_idle=1 ") +
+  return std::string(
+             "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+             "OMPI_MCA_mpi_yield_when_idle=1 ") +
          quote(BRITTLE_MPIEXEC) + " --oversubscribe -np " + std::to_string(ranks) + " " +
          quote(BRITTLE_EXE);
 }
@@ -59,8 +59,8 @@ inline nlohmann::json without_timings(nlohmann::json j) {
 /// run put together by their global_node / global_cell arrays.
 struct Frame {
   std::map<std::string, std::vector<double>> point, cell;  ///< name -> values by serial id
-  std::vector<double> points;                               ///< 3 per node
-  std::vector<vtkIdType> cells;                             ///< 4 serial node ids per cell
+  std::vector<double> points;                              ///< 3 per node
+  std::vector<vtkIdType> cells;                            ///< 4 serial node ids per cell
 };
 
 inline vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {

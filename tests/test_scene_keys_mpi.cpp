@@ -29,7 +29,8 @@ std::set<std::string> every_scene_key() {
   std::set<std::string> keys;
   std::string section, line;
   std::istringstream in(text.str());
-  const std::regex header(R"(^\[([a-z]+(\.NAME)?)\])"), key(R"(^  ([a-z_0-9]+(\.[a-z_0-9A-Z]+)*)\s)");
+  const std::regex header(R"(^\[([a-z]+(\.NAME)?)\])"),
+      key(R"(^  ([a-z_0-9]+(\.[a-z_0-9A-Z]+)*)\s)");
   std::smatch m;
   while (std::getline(in, line)) {
     if (std::regex_search(line, m, header)) {
@@ -50,8 +51,8 @@ struct Case {
 
 std::vector<Case> cases() {
   const std::string scenes = std::string(BRITTLE_SOURCE_DIR) + "/scenes/";
-  const std::string glass = quote(scenes + "glass-branching.ini") +
-                            " --set mesh.band_size=1e-3 --set run.end_time=40e-6";
+  const std::string glass =
+      quote(scenes + "glass-branching.ini") + " --set mesh.band_size=1e-3 --set run.end_time=40e-6";
   return {
       // the shipped glass scene (notch, traction boundaries, facet criterion) with the facet
       // keys and the output keys set away from their defaults
@@ -100,12 +101,15 @@ const std::map<std::string, std::string>& key_table() {
     t["material.weibull_modulus"] = t["material.strength_seed"] = "case rm";
     for (const char* k : {"L", "H", "T"}) t[std::string("geometry.") + k] = "case glass-facet";
     t["geometry.notch_depth"] = t["geometry.notch_base"] = "case rm";
-    t["mesh.size"] = t["mesh.band"] = t["mesh.band_size"] = t["mesh.layers"] =
-        t["mesh.algorithm"] = "case glass-facet";
+    t["mesh.size"] = t["mesh.band"] = t["mesh.band_size"] = t["mesh.layers"] = t["mesh.algorithm"] =
+        "case glass-facet";
     t["mesh.perturb"] = t["mesh.perturb_seed"] = "case rm";
     t["mesh.file"] = "test Mpi.SensorsRenderTimesAndGroupRegionsMatchTheSerialRun";
     t["mesh.parts"] = "test Mpi.PartitionedMeshRunHoldsNoWholeGridArray";
     t["mesh.max_elements"] = "none: a guard on the mesh's size, checked before any rank steps";
+    t["mesh.dimension"] = t["mesh.thickness"] = t["material.plane"] =
+        "none: a 2D body runs on one process for now (issue 53; Simulation::decompose refuses "
+        "it in one line)";
     t["loading.sigma_over_sigmac"] = "case rm";
     t["loading.sigma"] = "case cm-straight";
     t["initial.state"] = "case rm";
@@ -190,10 +194,10 @@ TEST(Mpi, EverySceneKeysCaseRunsOnTwoRanksWithTheSerialBits) {
   for (const Case& c : all) {
     SCOPED_TRACE(c.name);
     const fs::path serial = dir / (c.name + "_serial"), out = dir / (c.name + "_np2");
-    ASSERT_EQ(shell(quote(BRITTLE_EXE) + " run " + c.args + threads + " --out " +
-                        quote(serial.string()),
-                    dir / "serial.log"),
-              0)
+    ASSERT_EQ(
+        shell(quote(BRITTLE_EXE) + " run " + c.args + threads + " --out " + quote(serial.string()),
+              dir / "serial.log"),
+        0)
         << read_text(dir / "serial.log");
     ASSERT_EQ(shell(mpiexec(2) + " run " + c.args + threads + " --out " + quote(out.string()),
                     dir / "np2.log"),
@@ -215,8 +219,10 @@ TEST(Mpi, EverySceneKeysCaseRunsOnTwoRanksWithTheSerialBits) {
     const Frame expected = last_frame(serial, 0), got = last_frame(out, 2);
     EXPECT_EQ(got.points, expected.points);
     EXPECT_EQ(got.cells, expected.cells);
-    for (const auto& [array, values] : expected.point) EXPECT_EQ(got.point.at(array), values) << array;
-    for (const auto& [array, values] : expected.cell) EXPECT_EQ(got.cell.at(array), values) << array;
+    for (const auto& [array, values] : expected.point)
+      EXPECT_EQ(got.point.at(array), values) << array;
+    for (const auto& [array, values] : expected.cell)
+      EXPECT_EQ(got.cell.at(array), values) << array;
   }
 }
 

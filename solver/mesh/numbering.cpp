@@ -5,6 +5,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkCellType.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -75,6 +76,68 @@ double signed_volume(const std::array<std::array<double, 3>, 4>& p) {
          a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
+/// The grid's points and its cells of K corners.
+template <std::size_t K>
+void read_points_and_cells(vtkUnstructuredGrid& grid, std::vector<std::array<double, 3>>& x,
+                           std::vector<std::array<vtkIdType, K>>& cells) {
+  x.resize(grid.GetNumberOfPoints());
+  for (vtkIdType p = 0; p < grid.GetNumberOfPoints(); ++p) grid.GetPoint(p, x[p].data());
+  cells.resize(grid.GetNumberOfCells());
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < grid.GetNumberOfCells(); ++c) {
+    grid.GetCellPoints(c, ids);
+    for (std::size_t j = 0; j < K; ++j) cells[c][j] = ids->GetId(static_cast<vtkIdType>(j));
+  }
+}
+
+/// perturb_mesh of a 2D body's triangles: every node off the boundary (the edges of one
+/// triangle) moves by up to `fraction` of its shortest edge, as the tets' nodes do.
+void perturb_triangles(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed) {
+  const vtkIdType n = grid.GetNumberOfPoints(), cells = grid.GetNumberOfCells();
+  std::vector<std::array<double, 3>> x;
+  std::vector<std::array<vtkIdType, 3>> tris;
+  read_points_and_cells(grid, x, tris);
+  std::vector<std::array<vtkIdType, 2>> edges;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> shortest(n, inf);
+  for (const auto& t : tris)
+    for (int j = 0; j < 3; ++j) {
+      const vtkIdType a = t[j], b = t[(j + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b)});
+      const double length = std::hypot(x[a][0] - x[b][0], x[a][1] - x[b][1]);
+      shortest[a] = std::min(shortest[a], length), shortest[b] = std::min(shortest[b], length);
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint8_t> held(n, 0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) held[edges[i][0]] = held[edges[i][1]] = 1;
+    i = j;
+  }
+  vtkPoints* points = grid.GetPoints();
+  for (vtkIdType p = 0; p < n; ++p) {
+    if (held[p] || !std::isfinite(shortest[p])) continue;
+    const std::uint64_t h = position_hash(seed, x[p].data(), 2);
+    const double U1 = static_cast<double>(h >> 11) * 0x1.0p-53;
+    const double U2 = static_cast<double>(mix64(h) >> 11) * 0x1.0p-53;
+    const double r = fraction * shortest[p] * std::sqrt(U2), angle = 2 * M_PI * U1;
+    points->SetPoint(p, x[p][0] + r * std::cos(angle), x[p][1] + r * std::sin(angle), x[p][2]);
+  }
+  points->Modified();
+  auto area2 = [](const double* a, const double* b, const double* c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  for (vtkIdType c = 0; c < cells; ++c) {
+    double after[3][3];
+    for (int j = 0; j < 3; ++j) points->GetPoint(tris[c][j], after[j]);
+    const double a0 = area2(x[tris[c][0]].data(), x[tris[c][1]].data(), x[tris[c][2]].data());
+    const double a1 = area2(after[0], after[1], after[2]);
+    BRITTLE_CHECK(a0 * a1 > 0 && std::abs(a1) > 1e-3 * std::abs(a0), "mesh.perturb = ", fraction,
+                  " turns triangle ", c, " over or flat (expected a smaller value)");
+  }
+}
+
 }  // namespace
 
 void perturb_mesh(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed) {
@@ -82,14 +145,11 @@ void perturb_mesh(vtkUnstructuredGrid& grid, double fraction, std::uint64_t seed
                 " is out of range (expected 0 <= perturb <= 0.3)");
   const vtkIdType n = grid.GetNumberOfPoints(), cells = grid.GetNumberOfCells();
   if (fraction == 0 || n == 0) return;
-  std::vector<std::array<double, 3>> x(n);
-  for (vtkIdType p = 0; p < n; ++p) grid.GetPoint(p, x[p].data());
-  std::vector<std::array<vtkIdType, 4>> tets(cells);
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < cells; ++c) {
-    grid.GetCellPoints(c, ids);
-    for (int j = 0; j < 4; ++j) tets[c][j] = ids->GetId(j);
-  }
+  if (cells > 0 && grid.GetCellType(0) == VTK_TRIANGLE)
+    return perturb_triangles(grid, fraction, seed);
+  std::vector<std::array<double, 3>> x;
+  std::vector<std::array<vtkIdType, 4>> tets;
+  read_points_and_cells(grid, x, tets);
   double b[6];
   grid.GetBounds(b);
   const double tol = 1e-9 * std::max({b[1] - b[0], b[3] - b[2], b[5] - b[4]});

@@ -201,6 +201,70 @@ void extrude_and_mesh(double thickness, int layers) {
   gmsh::model::mesh::generate(3);
 }
 
+/// The linear triangles of the current Gmsh model (a 2D body, mesh.dimension = 2), turned
+/// counter-clockwise in the x-y plane (z = 0), on the used points in first-use order, renumbered
+/// for locality.
+vtkSmartPointer<vtkUnstructuredGrid> gmsh_triangles(const char* what) {
+  constexpr int kGmshTri3 = 2;  // Gmsh element type of the linear triangle
+  std::vector<std::size_t> node_tags;
+  std::vector<double> xyz, parametric;
+  gmsh::model::mesh::getNodes(node_tags, xyz, parametric, -1, -1, false, false);
+  std::unordered_map<std::size_t, vtkIdType> index;
+  for (std::size_t i = 0; i < node_tags.size(); ++i)
+    index.emplace(node_tags[i], static_cast<vtkIdType>(i));
+  std::vector<std::size_t> element_tags, element_nodes;
+  gmsh::model::mesh::getElementsByType(kGmshTri3, element_tags, element_nodes);
+  BRITTLE_CHECK(!element_tags.empty(), what, ": Gmsh produced no triangles");
+  std::vector<vtkIdType> new_id(node_tags.size(), -1);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> cells;
+  for (std::size_t e = 0; e < element_tags.size(); ++e) {
+    vtkIdType t[3];
+    for (int j = 0; j < 3; ++j) {
+      const auto it = index.find(element_nodes[3 * e + j]);
+      if (it == index.end()) throw Error("Gmsh mesh: triangle refers to an unknown node");
+      t[j] = it->second;
+    }
+    const double* a = &xyz[3 * t[0]];
+    const double* b = &xyz[3 * t[1]];
+    const double* c = &xyz[3 * t[2]];
+    const double area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    const double l2 = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]);
+    BRITTLE_CHECK(std::abs(area2) > 1e-12 * l2, what, ": triangle ", element_tags[e],
+                  " has zero area");
+    if (area2 < 0) std::swap(t[1], t[2]);
+    for (vtkIdType& p : t) {
+      if (new_id[p] < 0) {
+        new_id[p] = points->GetNumberOfPoints();
+        points->InsertNextPoint(xyz[3 * p], xyz[3 * p + 1], 0.0);
+      }
+      p = new_id[p];
+    }
+    cells->InsertNextCell(3, t);
+  }
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(points);
+  grid->SetCells(VTK_TRIANGLE, cells);
+  renumber_for_locality(*grid);
+  return grid;
+}
+
+/// Runs `build` (which meshes in 2D) inside a Gmsh session: the triangles, Gmsh's failures as
+/// brittle::Error.
+template <class Build>
+vtkSmartPointer<vtkUnstructuredGrid> with_gmsh_2d(const char* what, Build build) {
+  GmshSession session(what);
+  try {
+    build();
+    return gmsh_triangles(what);
+  } catch (const Error&) {
+    throw;
+  } catch (...) {
+    throw Error(error_message(what, ": Gmsh failed (", gmsh_last_error(), ")"));
+  }
+}
+
 /// Runs `build` inside a Gmsh session and turns any Gmsh failure into brittle::Error.
 template <class Build>
 vtkSmartPointer<vtkUnstructuredGrid> with_gmsh(const char* what, Build build) {
@@ -381,6 +445,12 @@ void build_notched_plate(const GeometryParams& g, const MeshParams& m) {
   occ::cut({{2, plate}}, tools, cut, map);
   BRITTLE_CHECK(cut.size() == 1, "plate with notches: the notches cut the plate into ", cut.size(),
                 " pieces (expected one body)");
+  if (m.dimension == 2) {  // the cut plate itself, in triangles
+    occ::synchronize();
+    set_size_and_algorithm(g, m);
+    gmsh::model::mesh::generate(2);
+    return;
+  }
   occ::extrude(cut, 0, 0, g.T, extruded, {m.layers}, {}, false);
   occ::synchronize();
   set_size_and_algorithm(g, m);
@@ -401,8 +471,10 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
   BRITTLE_CHECK(m.layers >= 1, "mesh.layers ", m.layers, " must be >= 1");
   BRITTLE_CHECK(m.band >= 0 && m.band_size >= 0, "mesh.band and mesh.band_size must be >= 0");
 
+  if (m.dimension == 2 && !g.notches.empty())
+    return with_gmsh_2d("plate mesh", [&] { build_notched_plate(g, m); });
   if (!g.notches.empty()) return with_gmsh("plate mesh", [&] { build_notched_plate(g, m); });
-  return with_gmsh("plate mesh", [&] {
+  const auto build = [&] {
     namespace geo = gmsh::model::geo;
     const double L = g.L, h2 = g.H / 2, a = g.notch_depth, b2 = g.notch_base / 2;
     const int p_lower_left = geo::addPoint(0, -h2, 0);
@@ -434,8 +506,13 @@ vtkSmartPointer<vtkUnstructuredGrid> generate_plate_mesh(const GeometryParams& g
 
     set_size_and_algorithm(g, m);
 
-    extrude_and_mesh(g.T, m.layers);
-  });
+    if (m.dimension == 2)
+      gmsh::model::mesh::generate(2);
+    else
+      extrude_and_mesh(g.T, m.layers);
+  };
+  if (m.dimension == 2) return with_gmsh_2d("plate mesh", build);
+  return with_gmsh("plate mesh", build);
 }
 
 vtkSmartPointer<vtkUnstructuredGrid> generate_box_mesh(double lx, double ly, double lz, double h) {

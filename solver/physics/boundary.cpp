@@ -118,10 +118,74 @@ std::vector<vtkIdType> select_nodes(const RegionParams& region, vtkUnstructuredG
   return nodes;
 }
 
+namespace {
+
+/// The boundary's selection checked: no interior face (or edge, `kind`), and some unless the
+/// mesh is a rank's part (the whole grid's is checked over the ranks).
+void check_selection(long interior, bool empty, vtkUnstructuredGrid& mesh, const std::string& where,
+                     const RegionParams& region, const char* kind, const char* hint) {
+  BRITTLE_CHECK(interior == 0, where, ": the region (", describe(region), ") holds ", interior,
+                " interior ", kind, "(s); a traction acts on boundary ", kind, "s only (use ",
+                hint, ")");
+  BRITTLE_CHECK(!empty || is_part(mesh), where, ": the region (", describe(region),
+                ") holds no boundary ", kind, " of the mesh");
+}
+
+/// A 2D body's boundary edges in the region: edges of one triangle only, the triangle's third
+/// corner giving the outward side.
+std::vector<BoundaryFace> boundary_edges(const std::vector<std::uint8_t>& in,
+                                         vtkUnstructuredGrid& mesh, double thickness,
+                                         long& interior) {
+  struct Seen {
+    int count = 0;
+    vtkIdType a = -1, b = -1, opposite = -1;
+  };
+  std::map<std::pair<vtkIdType, vtkIdType>, Seen> edges;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < mesh.GetNumberOfCells(); ++c) {
+    if (mesh.GetCellType(c) != VTK_TRIANGLE) continue;
+    mesh.GetCellPoints(c, ids);
+    for (int k = 0; k < 3; ++k) {
+      const vtkIdType a = ids->GetId(k), b = ids->GetId((k + 1) % 3);
+      if (!in[a] || !in[b]) continue;
+      Seen& s = edges[{std::min(a, b), std::max(a, b)}];
+      if (s.count++ == 0) s.a = a, s.b = b, s.opposite = ids->GetId((k + 2) % 3);
+    }
+  }
+  std::vector<BoundaryFace> out;
+  for (const auto& [key, s] : edges) {
+    if (s.count > 1) {
+      ++interior;
+      continue;
+    }
+    BoundaryFace bf;
+    bf.corners = 2;
+    bf.node[0] = s.a, bf.node[1] = s.b;
+    double p[3][3];
+    mesh.GetPoint(s.a, p[0]), mesh.GetPoint(s.b, p[1]), mesh.GetPoint(s.opposite, p[2]);
+    Vec3 n(p[1][1] - p[0][1], p[0][0] - p[1][0], 0.0);
+    bf.area = n.norm() * thickness;
+    n.normalize();
+    if (n.dot(Vec3(p[2]) - Vec3(p[0])) > 0) n = -n;
+    for (int d = 0; d < 3; ++d) bf.normal[d] = n[d];
+    out.push_back(bf);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
                                                 vtkUnstructuredGrid& mesh,
-                                                const std::string& where) {
+                                                const std::string& where, double thickness) {
   const std::vector<std::uint8_t> in = region_mask(region, mesh, where);
+  if (thickness > 0) {
+    long interior = 0;
+    std::vector<BoundaryFace> out = boundary_edges(in, mesh, thickness, interior);
+    check_selection(interior, out.empty(), mesh, where, region, "edge",
+                    "a thin box around the edge");
+    return out;
+  }
   // Faces with all three nodes in the region, counted over the tets that have them: once =
   // on the surface, twice = interior. The fourth node of the tet gives the outward side.
   struct Seen {
@@ -163,11 +227,8 @@ std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
     for (int d = 0; d < 3; ++d) bf.normal[d] = n[d];
     out.push_back(bf);
   }
-  BRITTLE_CHECK(interior == 0, where, ": the region (", describe(region), ") holds ", interior,
-                " interior face(s); a traction acts on boundary faces only (use a thin box "
-                "around the surface or a surface group)");
-  BRITTLE_CHECK(!out.empty() || is_part(mesh), where, ": the region (", describe(region),
-                ") holds no boundary face of the mesh");
+  check_selection(interior, out.empty(), mesh, where, region, "face",
+                  "a thin box around the surface or a surface group");
   return out;
 }
 
@@ -203,6 +264,10 @@ std::vector<RegionSelection> region_selections(const Scene& scene, vtkUnstructur
 
 Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
     : params_(scene.boundaries) {
+  // A 2D body's tractions act on its boundary edges, prisms of its thickness.
+  const double thickness_2d =
+      grid.corners() == 3 ? (scene.mesh.thickness > 0 ? scene.mesh.thickness : scene.geometry.T)
+                          : 0.0;
   const bool paper_plate =
       params_.empty() && scene.initial.state == InitialParams::State::prestress;
   if (paper_plate) {
@@ -225,14 +290,17 @@ Boundary::Boundary(const Scene& scene, Grid& grid, vtkUnstructuredGrid& mesh)
     const BoundaryParams& p = params_[b];
     const std::string where = "[boundary." + p.name + "]";
     if (p.type == BoundaryParams::Type::traction) {
-      const std::vector<BoundaryFace> faces = select_boundary_faces(p.region, mesh, where);
+      const std::vector<BoundaryFace> faces =
+          select_boundary_faces(p.region, mesh, where, thickness_2d);
       double area = 0;
       for (const BoundaryFace& f : faces) {
         area += f.area;
-        for (vtkIdType n : f.node) {
+        for (int k = 0; k < f.corners; ++k) {
+          const vtkIdType n = f.node[k];
           auto& entries = load[n];
           if (entries.empty() || entries.back().first != b) entries.push_back({b, Vec3::Zero()});
-          entries.back().second += Vec3(p.value) * (f.area / 3.0);  // int t N_i dA = t A / 3
+          // int t N_i dA = t A / 3 (a triangle), t A / 2 (a 2D body's edge)
+          entries.back().second += Vec3(p.value) * (f.area / (f.corners == 3 ? 3.0 : 2.0));
           fixed[n] |= constraint::no_split;
         }
       }

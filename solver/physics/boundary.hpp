@@ -29,9 +29,11 @@ std::string group_array_name(const std::string& group);
 std::vector<vtkIdType> select_nodes(const RegionParams& region, vtkUnstructuredGrid& mesh,
                                     const std::string& where, bool allow_empty = false);
 
-/// A boundary face (triangle of exactly one tet) with its corner nodes and reference area.
+/// A boundary face (triangle of exactly one tet) with its corner nodes and reference area; in
+/// a 2D body, a boundary edge (of exactly one triangle): 2 corners, area = length x thickness.
 struct BoundaryFace {
-  vtkIdType node[3];
+  vtkIdType node[3] = {-1, -1, -1};
+  int corners = 3;
   double area = 0;
   double normal[3] = {0, 0, 0};  ///< outward unit normal (reference)
 };
@@ -46,9 +48,10 @@ struct RegionSelection {
 /// Boundary faces whose three nodes are all in the region. Throws when the region holds no
 /// boundary face (on a rank's part: the whole grid's is checked over the ranks) or holds
 /// interior faces (a traction acts on the surface only).
+/// A mesh of triangles (a 2D body of `thickness`): its boundary edges.
 std::vector<BoundaryFace> select_boundary_faces(const RegionParams& region,
                                                 vtkUnstructuredGrid& mesh,
-                                                const std::string& where);
+                                                const std::string& where, double thickness = 0);
 
 /// Sets positions and velocities at t = 0 (SPEC 3): the uniaxial stretch (B.6) for the
 /// pre-stress `sigma` along y (initial.state = prestress) or the reference configuration

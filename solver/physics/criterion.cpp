@@ -91,11 +91,13 @@ void split_by_plane(const Grid& grid, const ForceAssembler& forces, const SplitC
   const vtkIdType* cells = grid.cells();
   const Vec3 xK(x[3 * K], x[3 * K + 1], x[3 * K + 2]);
   std::vector<vtkIdType> b_cells;  // those whose centroid lies on the + side
+  const int corners = grid.corners();  // (a 2D body's: the plane is a line through K)
+  const double share = 1.0 / corners;  // (0.25 for tets: the bits as before)
   for (vtkIdType k = start[K]; k < end[K]; ++k) {
     const vtkIdType e = entries[k] / 4;
     Vec3 centroid = Vec3::Zero();
-    for (int j = 0; j < 4; ++j) centroid += Vec3(x + 3 * cells[4 * e + j]);
-    if ((0.25 * centroid - xK).dot(c.normal) > 0.0) b_cells.push_back(e);
+    for (int j = 0; j < corners; ++j) centroid += Vec3(x + 3 * cells[corners * e + j]);
+    if ((share * centroid - xK).dot(c.normal) > 0.0) b_cells.push_back(e);
   }
   if (b_cells.empty() || b_cells.size() == static_cast<std::size_t>(end[K] - start[K]))
     return;  // nothing to split

@@ -58,9 +58,7 @@ bool larger_than_caches(vtkIdType cells) {
 
 }  // namespace
 
-ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
-                              const MaterialParams& m) {
-  const vtkIdType ne = grid.num_cells();
+ElementData sized_element_data(vtkIdType ne, const ElasticConstants& c, const MaterialParams& m) {
   ElementData d;
   d.Dm_inv.resize(9 * ne);
   d.V0.resize(ne);
@@ -68,6 +66,13 @@ ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
   d.h_e.resize(ne);
   d.eta_dil_per_h = m.zeta1 * c.rho0 * c.c_p;
   d.eta_dev_per_h = m.zeta2 * c.rho0 * c.c_s;
+  return d;
+}
+
+ElementData make_element_data(const Grid& grid, const ElasticConstants& c,
+                              const MaterialParams& m) {
+  const vtkIdType ne = grid.num_cells();
+  ElementData d = sized_element_data(ne, c, m);
   for (vtkIdType e = 0; e < ne; ++e) {
     const Mat3 Dm = edge_matrix(grid.X(), grid.cells() + 4 * e);
     const double V0 = Dm.determinant() / 6.0;
@@ -85,6 +90,11 @@ void lump_masses(Grid& grid, const ElementData& elements, double rho0) {
   double* mass = grid.mass();
   std::fill(mass, mass + grid.num_points(), 0.0);
   const vtkIdType* cells = grid.cells();
+  if (grid.corners() == 3) {  // a triangle's third to each corner
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+      for (int k = 0; k < 3; ++k) mass[cells[3 * e + k]] += rho0 * elements.V0[e] / 3.0;
+    return;
+  }
   // Two loops, so that the unscaled one compiles (and rounds) as it did before mass scaling.
   if (elements.mass_scale.empty()) {
     for (vtkIdType e = 0; e < grid.num_cells(); ++e)
@@ -120,19 +130,7 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
   // f_i = -v T grad N_i, i = 1..3; f_0 = -(f_1 + f_2 + f_3).
   const Mat3 P_v = vol * T_v * G.transpose();
   const Mat3 f = -vol * T_el * G.transpose() - P_v;
-  const Vec3 f0 = -f.rowwise().sum();
-  for (int k = 0; k < 3; ++k) {
-    u.force[k] = f0[k];
-    for (int j = 0; j < 3; ++j) u.force[3 * (j + 1) + k] = f(k, j);
-  }
-  double old_work = 0, new_work = 0;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
-      old_work += P_v_old[3 * j + i] * Vs(i, j);
-      new_work += P_v(i, j) * Vs(i, j);
-      u.P_v[3 * j + i] = P_v(i, j);
-    }
-  u.viscous_power = 0.5 * (old_work + new_work);
+  corner_forces_and_power<3>(f, P_v, Vs, P_v_old, u);
   u.volume = vol;
   u.sigma1_bound = sigma1_upper_bound(T_el(0, 0), T_el(1, 1), T_el(2, 2), T_el(0, 1), T_el(1, 2),
                                       T_el(0, 2));
@@ -143,6 +141,8 @@ ElementUpdate reference_element_update(const Grid& grid, const ElementData& el,
 
 ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const ElasticConstants& c)
     : grid_(&grid),
+      elements_(&el),
+      corners_(grid.corners()),
       stream_(larger_than_caches(grid.num_cells())),
       K_(c.K),
       mu_(c.mu),
@@ -156,6 +156,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       alpha1_(kLanes * blocks_.size(), 3.0),
       stored_(blocks_.size(), 1) {  // the element buffer's zeros are the forces until a step
   const vtkIdType ne = grid.num_cells();
+  if (corners_ == 3) tri_P_v_.assign(9 * ne, 0.0);
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
     for (int l = 0; l < kLanes; ++l) {
@@ -173,6 +174,7 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
 void ForceAssembler::load_connectivity(const Grid& grid) {
   const vtkIdType ne = grid.num_cells();
   const vtkIdType* cells = grid.cells();
+  const int corners = corners_;
   BRITTLE_CHECK(grid.num_points() <= INT32_MAX, "mesh: ", grid.num_points(),
                 " nodes is more than this build supports");
 #pragma omp parallel for schedule(static)
@@ -180,7 +182,8 @@ void ForceAssembler::load_connectivity(const Grid& grid) {
     Block& B = blocks_[b];
     for (int l = 0; l < kLanes; ++l) {
       const vtkIdType e = lane_cell(static_cast<vtkIdType>(b), l, ne);
-      for (int k = 0; k < 4; ++k) B.node[k][l] = static_cast<std::int32_t>(cells[4 * e + k]);
+      for (int k = 0; k < 4; ++k)  // (a triangle's lanes repeat corner 0 as corner 3)
+        B.node[k][l] = static_cast<std::int32_t>(cells[corners * e + (k < corners ? k : 0)]);
     }
   }
 }
@@ -190,15 +193,17 @@ void ForceAssembler::rebuild_tables(const Grid& grid) {
   const vtkIdType* cells = grid.cells();
   BRITTLE_CHECK(4 * ne <= INT32_MAX, "mesh: ", ne, " tets is more than this build supports");
   ranges_ = 0;  // the straddling nodes are found again at the next compute
+  // An entry is 4 cell + corner for tets and triangles alike (a triangle's corner 3 is unused).
+  const vtkIdType corners = corners_, n = corners * ne;
   node_start_.assign(np + 1, 0);
-  for (vtkIdType i = 0; i < 4 * ne; ++i) ++node_start_[cells[i] + 1];
+  for (vtkIdType i = 0; i < n; ++i) ++node_start_[cells[i] + 1];
   for (vtkIdType p = 0; p < np; ++p) node_start_[p + 1] += node_start_[p];
   node_end_.assign(node_start_.begin() + 1, node_start_.end());
   node_start_.pop_back();
-  node_entries_.resize(4 * ne);
+  node_entries_.resize(n);
   std::vector<vtkIdType> fill(node_start_);
-  for (vtkIdType i = 0; i < 4 * ne; ++i)
-    node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(i);  // in cell order
+  for (vtkIdType i = 0; i < n; ++i)  // in cell order
+    node_entries_[fill[cells[i]]++] = static_cast<std::int32_t>(4 * (i / corners) + i % corners);
   load_connectivity(grid);
 }
 
@@ -423,6 +428,7 @@ void ForceAssembler::partition(int ranges, const std::uint8_t* late) {
 }
 
 vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Overlap* overlap) {
+  if (corners_ == 3) return compute_triangles(grid, dt);  // (one process: overlap unused)
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();

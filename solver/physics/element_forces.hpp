@@ -17,6 +17,8 @@ namespace brittle {
 
 /// Per-element constants, struct of arrays indexed by cell (reference configuration).
 struct ElementData {
+  int corners = 4;              ///< 4: tets; 3: triangles (make_triangle_data)
+  double thickness = 0;         ///< triangles: the body's thickness (V0 = area x thickness)
   std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
   std::vector<double> V0;       ///< reference volume
   std::vector<double> inv_V0;   ///< 1 / V0
@@ -54,8 +56,33 @@ struct ElementUpdate {
   double stress[6] = {};  ///< T_el: xx, yy, zz, xy, yz, xz
   double P_v[9] = {};     ///< v T_v G^T, column-major (minus the viscous forces on corners 1..3)
   double viscous_power = 0, volume = 0, sigma1_bound = 0;
+  double alpha1 = 3;      ///< J^(-2/3) tr B (B.2) (the triangles'; the tets' kernel keeps its own)
   bool ok = false;        ///< J > 0 (else nothing else is meaningful)
 };
+
+/// The corner forces and the viscous power of an element update in Dim dimensions (3: a tet,
+/// 2: a triangle; docs/model.md): f (Dim x Dim) holds the forces on corners 1..Dim as columns,
+/// f_0 = -(their sum); the power (P_v(n) + P_v(n+1)) : Vs / 2 with P_v_old in the 3x3
+/// column-major slots. One code for both dimensions (the tets' reference and the triangles).
+template <int Dim>
+void corner_forces_and_power(const Eigen::Matrix<double, Dim, Dim>& f,
+                             const Eigen::Matrix<double, Dim, Dim>& P_v,
+                             const Eigen::Matrix<double, Dim, Dim>& Vs, const double* P_v_old,
+                             ElementUpdate& u) {
+  const Eigen::Matrix<double, Dim, 1> f0 = -f.rowwise().sum();
+  for (int k = 0; k < Dim; ++k) {
+    u.force[k] = f0[k];
+    for (int j = 0; j < Dim; ++j) u.force[3 * (j + 1) + k] = f(k, j);
+  }
+  double old_work = 0, new_work = 0;
+  for (int j = 0; j < Dim; ++j)
+    for (int i = 0; i < Dim; ++i) {
+      old_work += P_v_old[3 * j + i] * Vs(i, j);
+      new_work += P_v(i, j) * Vs(i, j);
+      u.P_v[3 * j + i] = P_v(i, j);
+    }
+  u.viscous_power = 0.5 * (old_work + new_work);
+}
 
 /// The element update one element at a time, written as directly from the equations as we
 /// can: the reference that the blocked kernel of ForceAssembler::compute is tested against.
@@ -63,6 +90,10 @@ struct ElementUpdate {
 ElementUpdate reference_element_update(const Grid& grid, const ElementData& elements,
                                        const ElasticConstants& c, vtkIdType e,
                                        const double* P_v_old);
+
+/// ElementData of `ne` elements, zeroed, with the viscosities' factors of the material: what
+/// make_element_data and make_triangle_data fill.
+ElementData sized_element_data(vtkIdType ne, const ElasticConstants& c, const MaterialParams& m);
 
 /// Computes Dm^-1, V0 and h_e = (6 sqrt(2) V0)^(1/3) from the reference positions; throws
 /// brittle::Error for a cell with non-positive reference volume.
@@ -92,6 +123,9 @@ class ForceAssembler {
   static constexpr int kLanes = 8;
 
   ForceAssembler(const Grid& grid, const ElementData& elements, const ElasticConstants& c);
+
+  /// A 2D body's plane state (triangles; material.plane): strain unless set.
+  void set_plane(MaterialParams::Plane plane) { plane_ = plane; }
 
   /// After a topology change (node splits; the number of cells never changes): rebuilds the
   /// node -> (element, corner) table and re-sums every node's force from the element forces.
@@ -203,6 +237,9 @@ class ForceAssembler {
   void rebuild_tables(const Grid& grid);
 
  private:
+  /// compute_elements of a grid of triangles (triangle_forces.cpp): each element's
+  /// triangle_update, then every node's sum in cell order.
+  vtkIdType compute_triangles(const Grid& grid, double dt);
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);
   /// Splits the blocks into `ranges` ranges and flags the nodes whose cells lie in two, or in
@@ -232,6 +269,10 @@ class ForceAssembler {
   };
 
   const Grid* grid_;
+  const ElementData* elements_;
+  int corners_ = 4;                     // 3: triangles (compute_triangles)
+  MaterialParams::Plane plane_ = MaterialParams::Plane::strain;
+  std::vector<double> tri_P_v_;         // triangles: 9 per element, the last step's P_v
   bool stream_ = false;
   double K_, mu_;
   double eta_dil_per_h_, eta_dev_per_h_;  // ElementData's: one material per grid

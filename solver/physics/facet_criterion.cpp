@@ -18,6 +18,7 @@ FacetCriterion::FacetCriterion(const Scene& scene, const CriterionContext& conte
       strength_of_(context.strength_at),
       sigma_c_(scene.material.sigma_c),
       traction_link_(scene.fracture.facet_link == FractureParams::FacetLink::traction) {
+  corners_ = context.grid.corners();  // (a 2D body's faces are its triangles' edges)
   const auto faces = 4 * static_cast<std::size_t>(context.grid.num_cells());
   face_open_.assign(faces, 0);
   face_traction_.assign(faces, 0.0);
@@ -39,7 +40,8 @@ std::vector<SplitCandidate> FacetCriterion::candidates(const Grid& grid,
   if (decomposition_.owned) opening = agree(grid, opening);
   for (const FacetOpening& o : opening)
     found.push_back(  // (in their order: largest ratio first)
-        {grid.cells()[o.face / 4 * 4 + (o.face + 1) % 4], o.ratio, Vec3::UnitY(), o.face});
+        {grid.cells()[o.face / 4 * corners_ + (o.face % 4 + 1) % corners_], o.ratio,
+         Vec3::UnitY(), o.face});
   return found;
 }
 
@@ -55,23 +57,16 @@ void FacetCriterion::split(Grid& grid, const ForceAssembler& forces,
     const vtkIdType f = c.face, g = twin(f);
     double s = strength(f);
     if (g < 0) {  // the face's strength from its corners' roots, as build() draws it
-      std::array<vtkIdType, 3> r;
-      int n = 0;
-      for (int k = 0; k < 4; ++k)
-        if (k != f % 4) r[n++] = in.root[cells[f / 4 * 4 + k]];
-      std::sort(r.begin(), r.end());
-      const double* X = grid.X();
       double centroid[3];
-      for (int a = 0; a < 3; ++a)
-        centroid[a] = (X[3 * r[0] + a] + X[3 * r[1] + a] + X[3 * r[2] + a]) / 3.0;
+      face_centroid(grid, in.root, f, centroid);
       s = strength_of_(centroid);
     }
     for (vtkIdType side : {f, g}) {
       if (side < 0) continue;
       face_open_[side] = 1;
       face_traction_[side] = c.sigma1 * s;  // (ratio x strength)
-      for (int k = 0; k < 4; ++k)
-        if (k != side % 4) touched.emplace_back(cells[side / 4 * 4 + k], c.sigma1);
+      for (int k = 0; k < corners_; ++k)
+        if (k != side % 4) touched.emplace_back(cells[side / 4 * corners_ + k], c.sigma1);
     }
   }
   std::sort(touched.begin(), touched.end(), [](const auto& a, const auto& b) {
@@ -174,15 +169,18 @@ void FacetCriterion::build(const Grid& grid, const std::vector<vtkIdType>& root)
     std::array<vtkIdType, 3> r;
     vtkIdType face;
   };
-  std::vector<Key> keys(4 * nc);
+  std::vector<Key> keys;
+  keys.reserve(corners_ * nc);
   for (vtkIdType e = 0; e < nc; ++e)
-    for (int j = 0; j < 4; ++j) {
-      Key& k = keys[4 * e + j];
-      int n = 0;
-      for (int c = 0; c < 4; ++c)
-        if (c != j) k.r[n++] = root[cells[4 * e + c]];
+    for (int j = 0; j < corners_; ++j) {  // (a triangle's edge: two roots, the third -1)
+      Key k;
+      k.r = {-1, -1, -1};
+      int n = 3 - (corners_ - 1);
+      for (int c = 0; c < corners_; ++c)
+        if (c != j) k.r[n++] = root[cells[corners_ * e + c]];
       std::sort(k.r.begin(), k.r.end());
       k.face = 4 * e + j;
+      keys.push_back(k);
     }
   std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
     return std::tie(a.r, a.face) < std::tie(b.r, b.face);
@@ -191,20 +189,35 @@ void FacetCriterion::build(const Grid& grid, const std::vector<vtkIdType>& root)
   twin_.assign(4 * nc, -1);
   strength_.assign(4 * nc, std::numeric_limits<double>::infinity());
   weakest_ = std::numeric_limits<double>::infinity();
-  const double* X = grid.X();
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
     if (keys[i].r != keys[i + 1].r) continue;
     const vtkIdType f = keys[i].face, g = keys[i + 1].face;
     across_[f] = g / 4, across_[g] = f / 4;
     twin_[f] = g, twin_[g] = f;
     double centroid[3];
-    for (int a = 0; a < 3; ++a)  // (roots in ascending order: the same bits from either side)
-      centroid[a] =
-          (X[3 * keys[i].r[0] + a] + X[3 * keys[i].r[1] + a] + X[3 * keys[i].r[2] + a]) / 3.0;
+    face_centroid(grid, root, f, centroid);
     strength_[f] = strength_[g] = strength_of_(centroid);
     weakest_ = std::min(weakest_, strength_[f]);
     ++i;
   }
+}
+
+void FacetCriterion::face_centroid(const Grid& grid, const std::vector<vtkIdType>& root,
+                                   vtkIdType f, double out[3]) const {
+  const vtkIdType* cells = grid.cells();
+  std::array<vtkIdType, 3> r = {0, 0, 0};
+  int n = 0;
+  for (int k = 0; k < corners_ && n < 3; ++k)
+    if (k != f % 4) r[n++] = root[cells[f / 4 * corners_ + k]];
+  const auto order = [](vtkIdType& a, vtkIdType& b) {
+    if (b < a) std::swap(a, b);
+  };
+  order(r[0], r[1]);  // ascending: two or three
+  if (n == 3) order(r[1], r[2]), order(r[0], r[1]);
+  const double* X = grid.X();
+  for (int a = 0; a < 3; ++a)  // (roots in ascending order: the same bits from either side)
+    out[a] = n == 3 ? (X[3 * r[0] + a] + X[3 * r[1] + a] + X[3 * r[2] + a]) / 3.0
+                    : (X[3 * r[0] + a] + X[3 * r[1] + a]) / 2.0;
 }
 
 double FacetCriterion::weakest(const Grid& grid, const std::vector<vtkIdType>& root) {
@@ -212,14 +225,14 @@ double FacetCriterion::weakest(const Grid& grid, const std::vector<vtkIdType>& r
   return weakest_;
 }
 
-std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAssembler& forces,
-                                               const std::vector<vtkIdType>& root,
-                                               const std::vector<std::uint8_t>& open,
+template <int Corners>
+std::vector<FacetOpening> FacetCriterion::scan(const Grid& grid, const double* stress,
                                                const std::function<bool(vtkIdType)>& may_open) {
-  if (across_.size() != 4 * static_cast<std::size_t>(grid.num_cells())) build(grid, root);
+  // Corners: 4, a tet's face (3 corners, the normal of their plane); 3, a triangle's edge (2
+  // ends, the in-plane normal across it). The dimension as a parameter: the tets' loop is
+  // compiled as it was before 2D bodies (the same bits).
   const vtkIdType* cells = grid.cells();
   const double* x = grid.x();
-  const double* stress = gather(grid, forces, open);
   const double inv_beta2 = beta_ > 0 ? 1.0 / (beta_ * beta_) : 0.0;
   const auto count = static_cast<std::int64_t>(faces_.size());
   std::vector<FacetOpening> found;
@@ -232,15 +245,20 @@ std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAsse
       const int j = static_cast<int>(f % 4);
       vtkIdType p[3];
       int m = 0;
-      for (int c = 0; c < 4; ++c)
-        if (c != j) p[m++] = cells[4 * e + c];
+      for (int c = 0; c < Corners; ++c)
+        if (c != j) p[m++] = cells[Corners * e + c];
+      if constexpr (Corners == 3) p[2] = p[1];  // (an edge: its second end twice)
       const double *s = stress + 6 * e, *t = stress + 6 * n;
       Mat3 T;  // the mean of the two cells' stresses
       T << s[0] + t[0], s[3] + t[3], s[5] + t[5], s[3] + t[3], s[1] + t[1], s[4] + t[4],
           s[5] + t[5], s[4] + t[4], s[2] + t[2];
       T *= 0.5;
       const Vec3 a(x + 3 * p[0]), b(x + 3 * p[1]), c(x + 3 * p[2]);
-      Vec3 normal = (b - a).cross(c - a);
+      Vec3 normal;
+      if constexpr (Corners == 4)
+        normal = (b - a).cross(c - a);
+      else
+        normal = Vec3(b.y() - a.y(), a.x() - b.x(), 0.0);  // an edge's: across it
       const double area2 = normal.norm();
       if (!(area2 > 0)) continue;
       normal /= area2;
@@ -257,6 +275,17 @@ std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAsse
 #pragma omp critical
     found.insert(found.end(), mine.begin(), mine.end());
   }
+  return found;
+}
+
+std::vector<FacetOpening> FacetCriterion::over(const Grid& grid, const ForceAssembler& forces,
+                                               const std::vector<vtkIdType>& root,
+                                               const std::vector<std::uint8_t>& open,
+                                               const std::function<bool(vtkIdType)>& may_open) {
+  if (across_.size() != 4 * static_cast<std::size_t>(grid.num_cells())) build(grid, root);
+  const double* stress = gather(grid, forces, open);
+  std::vector<FacetOpening> found = corners_ == 4 ? scan<4>(grid, stress, may_open)
+                                                  : scan<3>(grid, stress, may_open);
   std::sort(found.begin(), found.end(), [](const FacetOpening& a, const FacetOpening& b) {
     return std::tie(b.ratio, a.face) < std::tie(a.ratio, b.face);
   });
@@ -305,7 +334,7 @@ int FacetCriterion::groups(const ForceAssembler& forces, const std::vector<std::
       stack.pop_back();
       const vtkIdType e = entries[first + i] / 4;
       const int corner = entries[first + i] % 4;
-      for (int j = 0; j < 4; ++j) {  // the three faces of e that hold K
+      for (int j = 0; j < corners_; ++j) {  // the faces of e that hold K (3; a triangle's: 2)
         const vtkIdType f = 4 * e + j;
         if (j == corner || open[f] || across_[f] < 0) continue;
         const std::ptrdiff_t k = entry_of(across_[f]);

@@ -108,18 +108,28 @@ class FacetCriterion : public Criterion {
                                const std::vector<std::uint8_t>& open);
   /// The faces of cell e that are closed and interior, appended to faces_.
   void add_faces_of(vtkIdType e, const std::vector<std::uint8_t>& open) {
-    for (int j = 0; j < 4; ++j) {
+    for (int j = 0; j < corners_; ++j) {
       const vtkIdType f = 4 * e + j, n = across_[f];
       if (n >= 0 && !open[f]) faces_.push_back(n > e ? f : twin_[f]);
     }
   }
 
   std::string name_ = "facet";
+  int corners_ = 4;                       // per cell: 4 (tets), 3 (a 2D body's triangles)
   std::vector<vtkIdType> across_, twin_;  // 4 per cell
   std::vector<vtkIdType> faces_;          // scratch of over()
 
  private:
   void build(const Grid& grid, const std::vector<vtkIdType>& root);
+  /// over()'s scan of faces_ with the cells' stresses: the faces over their strength (on
+  /// cells of Corners corners: 4, tets; 3, a 2D body's triangles, whose faces are edges).
+  template <int Corners>
+  std::vector<FacetOpening> scan(const Grid& grid, const double* stress,
+                                 const std::function<bool(vtkIdType)>& may_open);
+  /// The reference centroid of face f from its corners' roots in ascending order (an edge's
+  /// midpoint in 2D): the same bits from either side.
+  void face_centroid(const Grid& grid, const std::vector<vtkIdType>& root, vtkIdType f,
+                     double out[3]) const;
 
   double beta_;
   std::function<double(const double X[3])> strength_of_;

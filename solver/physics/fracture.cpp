@@ -11,6 +11,34 @@
 
 namespace brittle {
 
+namespace {
+
+/// An edge through the splitting node K of a 2D body, known by its other end's root.
+struct CrackEdge {
+  vtkIdType p, cell;
+  bool plus;
+};
+
+/// The crack faces of a 2D split: each edge through K whose two triangles take different
+/// daughters, length l x thickness t, counted for both faces and half of each per end: l t
+/// (the tets' 2/3 of a face's area).
+std::vector<CrackFace> crack_edges(std::vector<CrackEdge> edges, const double* X, const Vec3& XK,
+                                   double thickness) {
+  std::sort(edges.begin(), edges.end(), [](const CrackEdge& a, const CrackEdge& b) {
+    return std::tie(a.p, a.cell) < std::tie(b.p, b.cell);
+  });
+  std::vector<CrackFace> crack;
+  for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
+    const CrackEdge &f = edges[i], &g = edges[i + 1];
+    if (f.p != g.p || f.plus == g.plus) continue;
+    const double area = (Vec3(X + 3 * f.p) - XK).norm() * thickness;
+    crack.push_back({f.plus ? g.cell : f.cell, f.plus ? f.cell : g.cell, area});
+  }
+  return crack;
+}
+
+}  // namespace
+
 Fracture::Fracture(const Scene& scene, const Grid& grid, const ElementData& elements,
                    CohesiveLinks& links, const BodySizes& body)
     : region_(scene.fracture.region),
@@ -148,6 +176,11 @@ void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembl
         r.m_a += 0.25 * rho0_ * elements.V0[k.cell] * elements.mass_scale[k.cell];
     }
   }
+  if (elements.corners == 3) {  // a 2D body's triangles: a third each, as lump_masses
+    r.m_a = 0;
+    for (const Corner& k : around)
+      if (!k.plus) r.m_a += rho0_ * elements.V0[k.cell] / 3.0;
+  }
   r.m_b = grid.mass()[K] - r.m_a;
 
   // Faces through K whose two cells now take different daughters: new crack surface,
@@ -160,6 +193,7 @@ void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembl
   };
   std::vector<Face> faces;
   for (const Corner& k : around) {
+    if (grid.corners() == 3) break;  // (a 2D body's edges: crack_edges below)
     vtkIdType o[3], n = 0;
     for (int j = 0; j < 4; ++j)
       if (j != k.corner) o[n++] = cells[4 * k.cell + j];
@@ -178,6 +212,13 @@ void Fracture::split_cells(Grid& grid, const ElementData& elements, ForceAssembl
     const double area = 0.5 * (Vec3(X + 3 * f.p) - XK).cross(Vec3(X + 3 * f.q) - XK).norm();
     // (reference positions of daughters equal their original's, so roots give the area)
     crack.push_back({f.plus ? g.cell : f.cell, f.plus ? f.cell : g.cell, 2.0 * area / 3.0});
+  }
+  if (grid.corners() == 3) {
+    std::vector<CrackEdge> edges;
+    for (const Corner& k : around)
+      for (int j = 0; j < 3; ++j)
+        if (j != k.corner) edges.push_back({root_[cells[3 * k.cell + j]], k.cell, k.plus});
+    crack = crack_edges(std::move(edges), X, XK, elements.thickness);
   }
 
   r.b = grid.split_node(K, b_cells);  // appends B, rewires b_cells; views refreshed

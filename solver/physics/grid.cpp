@@ -48,19 +48,27 @@ Grid::Grid(vtkUnstructuredGrid& reference_mesh) {
   auto connectivity = vtkSmartPointer<vtkTypeInt64Array>::New();
   offsets->InsertNextValue(0);
   auto ids = vtkSmartPointer<vtkIdList>::New();
+  // Tets; a mesh without any is a 2D body of triangles (mesh.dimension = 2).
+  int type = VTK_TETRA;
+  corners_ = 4;
+  bool tets = false;
+  for (vtkIdType c = 0; c < reference_mesh.GetNumberOfCells() && !tets; ++c)
+    tets = reference_mesh.GetCellType(c) == VTK_TETRA;
+  if (!tets) type = VTK_TRIANGLE, corners_ = 3;
   for (vtkIdType c = 0; c < reference_mesh.GetNumberOfCells(); ++c) {
-    if (reference_mesh.GetCellType(c) != VTK_TETRA) continue;
+    if (reference_mesh.GetCellType(c) != type) continue;
     reference_mesh.GetCellPoints(c, ids);
-    for (vtkIdType k = 0; k < 4; ++k) connectivity->InsertNextValue(ids->GetId(k));
+    for (vtkIdType k = 0; k < corners_; ++k) connectivity->InsertNextValue(ids->GetId(k));
     offsets->InsertNextValue(connectivity->GetNumberOfValues());
   }
-  BRITTLE_CHECK(connectivity->GetNumberOfValues() > 0, "live grid: the mesh has no tetrahedra");
+  BRITTLE_CHECK(connectivity->GetNumberOfValues() > 0,
+                "live grid: the mesh has no tetrahedra (nor triangles)");
   auto cells = vtkSmartPointer<vtkCellArray>::New();
   cells->SetData(offsets, connectivity);
 
   grid_ = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid_->SetPoints(points);
-  grid_->SetCells(VTK_TETRA, cells);
+  grid_->SetCells(type, cells);
 
   const vtkIdType nc = grid_->GetNumberOfCells();
   auto* pd = grid_->GetPointData();
@@ -120,8 +128,8 @@ vtkIdType Grid::split_node(vtkIdType k, const std::vector<vtkIdType>& cells) {
   }
   refresh();
   for (vtkIdType c : cells) {
-    vtkIdType* corner = std::find(conn_ + 4 * c, conn_ + 4 * c + 4, k);
-    BRITTLE_ASSERT(corner != conn_ + 4 * c + 4);
+    vtkIdType* corner = std::find(conn_ + corners_ * c, conn_ + corners_ * c + corners_, k);
+    BRITTLE_ASSERT(corner != conn_ + corners_ * c + corners_);
     *corner = b;
   }
   crack_[k] = crack_[b] = 1;

@@ -47,6 +47,9 @@ class Grid {
   vtkUnstructuredGrid* vtk() const { return grid_; }
   vtkIdType num_points() const { return num_points_; }
   vtkIdType num_cells() const { return num_cells_; }
+  /// Corners per cell: 4 (tets, 3D) or 3 (triangles, a 2D body; issue 53), and the dimension.
+  int corners() const { return corners_; }
+  int dimension() const { return corners_ - 1; }
 
   // Raw views (struct of arrays); 3 doubles per point for vector fields.
   double* x() const { return x_; }                 ///< current positions
@@ -56,7 +59,7 @@ class Grid {
   double* mass() const { return mass_; }
   std::uint8_t* fixed() const { return fixed_; }
   std::uint8_t* crack() const { return crack_; }
-  vtkIdType* cells() const { return conn_; }       ///< 4 point ids per tet, contiguous
+  vtkIdType* cells() const { return conn_; }       ///< corners() point ids per cell, contiguous
   double* damage() const { return damage_; }
   double* sigma1_over_sigmac() const { return sigma1_; }
   double* stress() const { return stress_; }      ///< 6 per cell
@@ -84,6 +87,7 @@ class Grid {
  private:
   vtkSmartPointer<vtkUnstructuredGrid> grid_;
   vtkIdType num_points_ = 0, num_cells_ = 0;
+  int corners_ = 4;
   double *x_ = nullptr, *X_ = nullptr, *v_ = nullptr, *u_ = nullptr, *mass_ = nullptr;
   std::uint8_t *fixed_ = nullptr, *crack_ = nullptr;
   vtkIdType* conn_ = nullptr;

@@ -68,14 +68,16 @@ std::vector<SplitCandidate> NodalStressCriterion::candidates(const Grid& grid,
     hot_.resize(grid.num_points(), 0);
     for (vtkIdType p : hot_nodes_) hot_[p] = 0;  // last step's marks
     hot_nodes_.clear();
+    const int corners = grid.corners();  // (a triangle's corner 3: its corner 0 again)
     auto visit = [&](vtkIdType e) {
-      const vtkIdType* corner = cells + 4 * e;
+      const vtkIdType* corner = cells + corners * e;
+      const vtkIdType fourth = corner[corners == 4 ? 3 : 0];
       const double weakest =
           own ? std::min(std::min(strength_of(corner[0]), strength_of(corner[1])),
-                         std::min(strength_of(corner[2]), strength_of(corner[3])))
+                         std::min(strength_of(corner[2]), strength_of(fourth)))
               : sigma_c;
       if (bound[e] >= weakest)
-        for (int k = 0; k < 4; ++k) hot_[corner[k]] = 1;
+        for (int k = 0; k < corners; ++k) hot_[corner[k]] = 1;
     };
     // The element loop listed the cells whose bound reached the weakest strength of the
     // grid (hot_threshold): a superset of those visited here (damage only lowers bounds).

@@ -24,6 +24,10 @@ struct MaterialParams {
   /// from its reference position and strength_seed.
   double weibull_modulus = 0.0;
   int strength_seed = 1;    ///< seed of the per-node strengths [-]
+  /// A 2D body's out-of-plane state (mesh.dimension = 2, docs/model.md "Two dimensions"):
+  /// strain, F33 = 1; stress, F33 such that T33 = 0, solved per element.
+  enum class Plane { strain, stress };
+  Plane plane = Plane::strain;
 };
 
 /// A notch cut into the generated plate through its thickness ([notch.NAME], docs/scenes.md):
@@ -55,6 +59,9 @@ struct MeshParams {
   /// A directory of partitioned-mesh pieces (`brittle partition --out`): each rank of
   /// `mpirun -np N brittle run` reads its own part_R.vtu instead of the whole mesh.
   std::string parts;
+  /// 3: tets; 2: triangles in the x-y plane, prisms of `thickness` (issue 53).
+  int dimension = 3;
+  double thickness = 0.0;    ///< a 2D body's thickness [m] (0 = geometry.T)
   double size = 500e-6;      ///< target element size h away from the band [m]
   double band = 0.0;         ///< half-width of the refined band |y| < band (0 = none) [m]
   double band_size = 0.0;    ///< element size inside the band (0 = size) [m]
@@ -71,7 +78,7 @@ struct MeshParams {
   double max_elements = 10e6;
 };
 
-/// Tets of the generated plate, estimated before meshing: the plate's area in equilateral
+/// Cells of the generated plate (tets; triangles in 2D), estimated before meshing: the plate's area in equilateral
 /// triangles of the local size (band, linear transition over a further band width, the rest),
 /// 3 tets per prism, `layers` prisms per triangle. Within 6 % of Gmsh's counts for CM, RM and a
 /// 1.8 M-tet plate.
@@ -85,7 +92,7 @@ inline double estimated_tets(const GeometryParams& g, const MeshParams& m) {
   const double triangles = per_area * g.L *
                            (2 * band / (band_size * band_size) + 2 * transition / (mid * mid) +
                             rest / (m.size * m.size));
-  return 3.0 * m.layers * triangles;
+  return m.dimension == 2 ? triangles : 3.0 * m.layers * triangles;  // (2D: the triangles)
 }
 
 struct LoadingParams {

@@ -15,11 +15,34 @@ namespace brittle {
 
 namespace {
 
+/// A triangle's: its smallest altitude, twice its area over its longest edge, in the bound
+/// below (docs/model.md, "Two dimensions").
+StableStep triangle_step(const double* x, const vtkIdType* cells, const double* V0,
+                         const ElementData& el, const ElasticConstants& c, double cfl,
+                         vtkIdType e) {
+  const vtkIdType* n = cells + 3 * e;
+  const double *p0 = x + 3 * n[0], *p1 = x + 3 * n[1], *p2 = x + 3 * n[2];
+  const double ax = p1[0] - p0[0], ay = p1[1] - p0[1], bx = p2[0] - p0[0], by = p2[1] - p0[1];
+  const double area2 = ax * by - ay * bx;
+  const double longest = std::max({std::hypot(ax, ay), std::hypot(bx, by),
+                                   std::hypot(bx - ax, by - ay)});
+  const double altitude = area2 > 0 ? area2 / longest : 0.0;
+  const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
+  // J: the areas' ratio (the thickness's change in plane stress left out, as the tets' bound
+  // leaves out the shape's)
+  const double J = 0.5 * area2 * el.thickness * el.inv_V0[e];
+  (void)V0;
+  const double xi = altitude > 0 ? eta_P * J / (c.rho0 * c.c_p * altitude) : 0.0;
+  const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
+  return StableStep{dt, e, altitude, xi};
+}
+
 /// Element e's stable step at its current shape: dt_e = cfl (h_e / c_p) (sqrt(1 + xi_e^2) -
 /// xi_e) (SPEC 4; docs/model.md, "Stable step").
 inline StableStep element_step(const double* x, const vtkIdType* cells, const double* V0,
                                const ElementData& el, const ElasticConstants& c, double cfl,
                                vtkIdType e) {
+  if (el.corners == 3) return triangle_step(x, cells, V0, el, c, cfl, e);
   const vtkIdType* n = cells + 4 * e;
   const Vec3 p0(x + 3 * n[0]);
   const Vec3 a = Vec3(x + 3 * n[1]) - p0, b = Vec3(x + 3 * n[2]) - p0, d = Vec3(x + 3 * n[3]) - p0;
@@ -146,8 +169,11 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& el,
   d.element = worst.element;
   d.altitude = worst.altitude;
   d.xi = worst.xi;
-  for (int k = 0; k < 4; ++k)
-    for (int i = 0; i < 3; ++i) d.centroid[i] += 0.25 * x[3 * cells[4 * worst.element + k] + i];
+  const int corners = el.corners;
+  const double share = 1.0 / corners;  // (0.25 for tets: the bits as before)
+  for (int k = 0; k < corners; ++k)
+    for (int i = 0; i < 3; ++i)
+      d.centroid[i] += share * x[3 * cells[corners * worst.element + k] + i];
   d.within_10_percent = std::count_if(dt.begin(), dt.end(),
                                       [&](double v) { return v <= 1.1 * worst.dt; });
   // Order statistics (the value at rank floor(q (n - 1))): the same on any thread count.
@@ -185,8 +211,10 @@ StepDistribution step_distribution(const Grid& grid, const ElementData& el,
   std::vector<double> mine;  // the owner of the smallest sends its centroid, altitude and xi
   if (worst.element >= 0 && halo.global_cell()[worst.element] == id) {
     double centroid[3] = {0, 0, 0};
-    for (int k = 0; k < 4; ++k)
-      for (int i = 0; i < 3; ++i) centroid[i] += 0.25 * x[3 * cells[4 * worst.element + k] + i];
+    const int corners = el.corners;
+    for (int k = 0; k < corners; ++k)
+      for (int i = 0; i < 3; ++i)
+        centroid[i] += (1.0 / corners) * x[3 * cells[corners * worst.element + k] + i];
     mine = {centroid[0], centroid[1], centroid[2], worst.altitude, worst.xi};
   }
   const std::vector<double> owner = halo.gather_all(mine);

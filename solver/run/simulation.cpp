@@ -12,6 +12,7 @@
 
 #include "archive.hpp"  // fnv1a
 #include "error.hpp"
+#include "triangle_forces.hpp"
 
 namespace brittle {
 namespace {
@@ -63,6 +64,15 @@ constexpr double kSmallestStepFraction = 0.05;
 /// length takes 2.6 days (docs/scenes.md, guards).
 constexpr double kMaxSteps = 1e8;
 
+/// The element constants: a 2D body's triangles (prisms of mesh.thickness, or geometry.T), or
+/// tets.
+ElementData element_data_of(const Scene& scene, const Grid& grid, const ElasticConstants& c) {
+  if (grid.corners() == 3)
+    return make_triangle_data(grid, c, scene.material,
+                              scene.mesh.thickness > 0 ? scene.mesh.thickness : scene.geometry.T);
+  return make_element_data(grid, c, scene.material);
+}
+
 /// The whole body's sizes: a rank's part of a decomposed run carries its whole mesh's
 /// (extract_part); else the grid's own.
 BodySizes body_of(vtkUnstructuredGrid& reference_mesh, const Grid& grid,
@@ -82,7 +92,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
                  ? scene.loading.stress(scene.material)
                  : 0.0),
       grid_(reference_mesh),
-      elements_(make_element_data(grid_, constants_, scene.material)),
+      elements_(element_data_of(scene, grid_, constants_)),
       body_(body_of(reference_mesh, grid_, elements_)),
       assembler_(grid_, elements_, constants_),
       links_(CohesiveLaw{scene.material.gamma, scene.fracture.alpha, scene.fracture.n},
@@ -97,6 +107,7 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   if (scene.run.mass_scaling > 0)
     mass_scaling_ =
         scale_masses(grid_, elements_, constants_, constants_.rho0, scene.run.mass_scaling);
+  assembler_.set_plane(scene.material.plane);
   lump_masses(grid_, elements_, constants_.rho0);
   apply_initial_state(scene, sigma_, constants_, grid_, reference_mesh);
   boundary_.impose_velocities(grid_, 0.0);
@@ -143,7 +154,8 @@ Simulation::Simulation(const Scene& scene, vtkUnstructuredGrid& reference_mesh)
   fixed_nodes_ = std::count_if(grid_.fixed(), grid_.fixed() + grid_.num_points(),
                                [](std::uint8_t f) { return (f & 7) != 0; });
   std::uint64_t h = fnv1a(grid_.X(), 3 * sizeof(double) * grid_.num_points());
-  mesh_fingerprint_ = fnv1a(grid_.cells(), 4 * sizeof(vtkIdType) * grid_.num_cells(), h);
+  mesh_fingerprint_ =
+      fnv1a(grid_.cells(), grid_.corners() * sizeof(vtkIdType) * grid_.num_cells(), h);
 }
 
 void Simulation::reset_cracks() {
@@ -164,6 +176,8 @@ CrackFronts Simulation::make_crack_fronts() const {
 
 void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
+  BRITTLE_CHECK(grid_.corners() == 4, "mesh.dimension = 2 runs on one process for now (issue 53; "
+                "expected a run without mpirun)");
   // The part must hold the cells the criterion reads (docs/parallel.md, "Ghost depth").
   const GhostReach need = ghost_reach(scene_, body_), held = halo.reach();
   BRITTLE_CHECK(held.covers(need), "decomposed run: the parts hold ", held.layers,

@@ -1,0 +1,241 @@
+// Two dimensions (issue 53; docs/model.md, "Two dimensions"): the paper's law in plane strain
+// and plane stress, the triangle's forces as the gradient of its energy, the triangle plate
+// from Gmsh, and a 2D run's energy budget and thread-count independence.
+#include <gtest/gtest.h>
+#include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <cmath>
+#include <random>
+
+#include "fixtures.hpp"
+#include "plate_mesh.hpp"
+#include "simulation.hpp"
+#include "triangle_forces.hpp"
+
+namespace brittle {
+namespace {
+
+MaterialParams glass() {
+  MaterialParams m;
+  m.rho0 = 2450, m.E = 32e9, m.nu = 0.2, m.sigma_c = 6.4e6, m.gamma = 1.5;
+  return m;
+}
+
+Mat3 extended(const Eigen::Matrix2d& F2, double lambda) {
+  Mat3 F = Mat3::Zero();
+  F.topLeftCorner<2, 2>() = F2;
+  F(2, 2) = lambda;
+  return F;
+}
+
+/// Plane stress: the stretch found per element zeroes T33 of (B.4), for small and large
+/// deformations; plane strain keeps F33 = 1.
+TEST(Plane, PlaneStressStretchZeroesTheOutOfPlaneStress) {
+  const MaterialParams m = glass();
+  const ElasticConstants c = ElasticConstants::from(m);
+  std::mt19937_64 rng(3);
+  for (double scale : {1e-6, 1e-3, 0.05, 0.3}) {
+    std::uniform_real_distribution<double> u(-scale, scale);
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::Matrix2d F2;
+      F2 << 1 + u(rng), u(rng), u(rng), 1 + u(rng);
+      const double j = F2.determinant(), a = F2.squaredNorm();
+      EXPECT_EQ(out_of_plane_stretch(MaterialParams::Plane::strain, j, a, c.K, c.mu), 1.0);
+      const double lambda = out_of_plane_stretch(MaterialParams::Plane::stress, j, a, c.K, c.mu);
+      const Mat3 T = elastic_stress(extended(F2, lambda), c.K, c.mu, 0.0);
+      EXPECT_LE(std::abs(T(2, 2)), 1e-9 * T.norm() + 1e-6) << scale << " " << lambda;
+    }
+  }
+}
+
+/// Small strain: plane stress gives E/(1-nu^2) (eps_xx + nu eps_yy), plane strain E (1-nu) /
+/// ((1+nu)(1-2nu)) eps_xx for a uniaxial strain, and its sigma_zz = nu (sigma_xx + sigma_yy).
+TEST(Plane, SmallStrainIsPlaneStressAndPlaneStrainElasticity) {
+  const MaterialParams m = glass();
+  const ElasticConstants c = ElasticConstants::from(m);
+  const double eps = 1e-7, E = m.E, nu = m.nu;
+  Eigen::Matrix2d F2 = Eigen::Matrix2d::Identity();
+  F2(0, 0) += eps;
+  const double j = F2.determinant(), a = F2.squaredNorm();
+  const double ls = out_of_plane_stretch(MaterialParams::Plane::stress, j, a, c.K, c.mu);
+  const Mat3 Ts = elastic_stress(extended(F2, ls), c.K, c.mu, 0.0);
+  EXPECT_NEAR(Ts(0, 0), E / (1 - nu * nu) * eps, 1e-5 * E * eps);
+  EXPECT_NEAR(Ts(1, 1), nu * E / (1 - nu * nu) * eps, 1e-5 * E * eps);
+  EXPECT_NEAR(ls - 1, -nu / (1 - nu) * eps, 1e-5 * eps);
+  const Mat3 Tp = elastic_stress(extended(F2, 1.0), c.K, c.mu, 0.0);
+  EXPECT_NEAR(Tp(0, 0), E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) * eps, 1e-5 * E * eps);
+  EXPECT_NEAR(Tp(2, 2), nu * (Tp(0, 0) + Tp(1, 1)), 1e-5 * E * eps);
+}
+
+/// One triangle at rest in its reference shape, then deformed: its corner forces are minus the
+/// gradient of its energy V0 rho0 Sigma(F) (B.2) by central differences, in plane strain and in
+/// plane stress (there T33 = 0 makes the stretch's own derivative vanish), and they sum to 0.
+TEST(Plane, TriangleForcesAreTheGradientOfItsEnergy) {
+  for (const auto plane : {MaterialParams::Plane::strain, MaterialParams::Plane::stress}) {
+    SCOPED_TRACE(plane == MaterialParams::Plane::strain ? "strain" : "stress");
+    MaterialParams m = glass();
+    m.zeta1 = m.zeta2 = 0;  // (elastic forces only)
+    const ElasticConstants c = ElasticConstants::from(m);
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->InsertNextPoint(0, 0, 0);
+    points->InsertNextPoint(1e-3, 0.1e-3, 0);
+    points->InsertNextPoint(0.3e-3, 0.9e-3, 0);
+    vtkNew<vtkCellArray> cells;
+    const vtkIdType tri[3] = {0, 1, 2};
+    cells->InsertNextCell(3, tri);
+    vtkNew<vtkUnstructuredGrid> mesh;
+    mesh->SetPoints(points);
+    mesh->SetCells(VTK_TRIANGLE, cells);
+    Grid grid(*mesh);
+    ASSERT_EQ(grid.corners(), 3);
+    const double thickness = 2e-3;
+    const ElementData el = make_triangle_data(grid, c, m, thickness);
+    EXPECT_NEAR(el.V0[0], 0.5 * (1e-3 * 0.9e-3 - 0.1e-3 * 0.3e-3) * thickness, 1e-20);
+    const double moved[9] = {0.01e-3, -0.02e-3, 0, 1.03e-3, 0.12e-3, 0, 0.28e-3, 0.95e-3, 0};
+    for (int i = 0; i < 9; ++i) grid.x()[i] = moved[i];
+    const double P0[9] = {};
+    const ElementUpdate u = triangle_update(grid, el, c, plane, 0, P0);
+    ASSERT_TRUE(u.ok);
+    auto energy = [&]() {
+      Eigen::Matrix2d Ds, Dm_inv;
+      for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 2; ++i) Ds(i, k) = grid.x()[3 * (k + 1) + i] - grid.x()[i];
+      Dm_inv << el.Dm_inv[0], el.Dm_inv[1], el.Dm_inv[3], el.Dm_inv[4];
+      const Eigen::Matrix2d F2 = Ds * Dm_inv;
+      const double lambda =
+          out_of_plane_stretch(plane, F2.determinant(), F2.squaredNorm(), c.K, c.mu);
+      return el.V0[0] * strain_energy_density(extended(F2, lambda), c.K, c.mu, 0.0);
+    };
+    double sum[2] = {0, 0};
+    for (int p = 0; p < 3; ++p)
+      for (int i = 0; i < 2; ++i) {
+        const double h = 1e-9, x0 = grid.x()[3 * p + i];
+        grid.x()[3 * p + i] = x0 + h;
+        const double up = energy();
+        grid.x()[3 * p + i] = x0 - h;
+        const double down = energy();
+        grid.x()[3 * p + i] = x0;
+        const double expected = -(up - down) / (2 * h);
+        EXPECT_NEAR(u.force[3 * p + i], expected, 1e-5 * std::abs(expected) + 1e-6)
+            << "corner " << p << " component " << i;
+        sum[i] += u.force[3 * p + i];
+      }
+    EXPECT_NEAR(sum[0], 0.0, 1e-9 * std::abs(u.force[0]));
+    EXPECT_NEAR(sum[1], 0.0, 1e-9 * std::abs(u.force[1]));
+    if (plane == MaterialParams::Plane::stress) {
+      EXPECT_NEAR(u.stress[2], 0.0, 1e-6 * std::abs(u.stress[0]));
+    }
+  }
+}
+
+/// mesh.dimension = 2: Gmsh's triangles of the notched glass plate, counter-clockwise in
+/// z = 0, covering the plate's area less the notch's.
+/// The glass plate of scenes/glass-branching.ini as a 2D body (triangles), pulled by tractions
+/// on its edges, no fracture: a scene for the tests below.
+Scene glass_2d(MaterialParams::Plane plane, double end_time) {
+  Scene s;
+  s.material = glass();
+  s.material.plane = plane;
+  s.geometry.L = 100e-3, s.geometry.H = 40e-3, s.geometry.T = 0.5e-3;
+  NotchParams n;
+  n.name = "left", n.length = 50e-3, n.opening = 1e-3;
+  s.geometry.notches.push_back(n);
+  s.mesh.dimension = 2;
+  s.mesh.size = 2e-3, s.mesh.band = 5e-3, s.mesh.band_size = 1e-3;
+  s.initial.state = InitialParams::State::rest;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double y : {20e-3, -20e-3}) {
+    BoundaryParams b;
+    b.name = y > 0 ? "top" : "bottom";
+    b.type = BoundaryParams::Type::traction;
+    b.region.box = {-inf, inf, y, y, -inf, inf};
+    b.value[1] = y > 0 ? 1e6 : -1e6;
+    s.boundaries.push_back(b);
+  }
+  s.run.end_time = end_time;
+  s.output.vtu = false;
+  s.output.frame_interval = 0;
+  return s;
+}
+
+/// mesh.dimension = 2: Gmsh's triangles of the notched glass plate, counter-clockwise in
+/// z = 0, covering the plate's area less the notch's.
+TEST(Plane, GeneratedPlateIsTrianglesOfThePlatesArea) {
+  const Scene s = glass_2d(MaterialParams::Plane::stress, 1e-6);
+  auto mesh = make_mesh(s);
+  Grid grid(*mesh);
+  ASSERT_EQ(grid.corners(), 3);
+  double area = 0;
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
+    const vtkIdType* n = grid.cells() + 3 * e;
+    const double *a = grid.X() + 3 * n[0], *b = grid.X() + 3 * n[1], *c = grid.X() + 3 * n[2];
+    const double doubled = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    ASSERT_GT(doubled, 0) << e;
+    EXPECT_EQ(a[2], 0.0);
+    area += 0.5 * doubled;
+  }
+  EXPECT_NEAR(area, 100e-3 * 40e-3 - 0.5 * 1e-3 * 50e-3, 1e-9);
+  EXPECT_GT(grid.num_cells(), 0.5 * estimated_tets(s.geometry, s.mesh));
+  EXPECT_LT(grid.num_cells(), 1.5 * estimated_tets(s.geometry, s.mesh));
+}
+
+/// A 2D run (plane stress and plane strain): the energy budget closes (the work of the
+/// tractions is the kinetic, elastic and viscous energy), the mass is the plate's, and the
+/// results are bitwise the same on 1 and 2 threads.
+TEST(Plane, TwoDimensionalRunKeepsItsEnergyBudgetOnAnyThreadCount) {
+  for (const auto plane : {MaterialParams::Plane::stress, MaterialParams::Plane::strain}) {
+    SCOPED_TRACE(plane == MaterialParams::Plane::strain ? "strain" : "stress");
+    const Scene s = glass_2d(plane, 15e-6);
+    auto mesh = make_mesh(s);
+    {
+      Simulation sim(s, *mesh);
+      EXPECT_NEAR(testing::total_mass(sim.grid()),
+                  2450 * 0.5e-3 * (100e-3 * 40e-3 - 0.5 * 1e-3 * 50e-3), 1e-12);
+      testing::EnergyLog log;
+      sim.run({&log});
+      ASSERT_FALSE(log.rows.empty());
+      const Energies& e = log.rows.back();
+      EXPECT_GT(e.external_work, 1e-5);
+      EXPECT_LT(std::abs(e.total()) / e.external_work, 1e-3);
+      EXPECT_GT(e.elastic, 0.1 * e.external_work);
+    }
+    const testing::ThreadRun one = testing::run_on_threads(s, *mesh, 1);
+    const testing::ThreadRun two = testing::run_on_threads(s, *mesh, 2);
+    EXPECT_EQ(one.x, two.x);
+    EXPECT_EQ(one.v, two.v);
+  }
+}
+
+/// The facet criterion on a 2D body's edges (fracture.criterion = facet, docs/model.md "Two
+/// dimensions"): the glass plate cracks from its notch, splits nodes where open edges cut their
+/// triangles apart, keeps its energy budget (links and their dissipation in it), and gives the
+/// same bits on 1 and 2 threads.
+TEST(Plane, FacetCracksOnEdgesKeepTheBudgetOnAnyThreadCount) {
+  Scene s = glass_2d(MaterialParams::Plane::stress, 45e-6);
+  s.fracture.mode = FractureParams::Mode::branching;
+  s.fracture.criterion = FractureParams::Criterion::facet;
+  auto mesh = make_mesh(s);
+  {
+    Simulation sim(s, *mesh);
+    testing::EnergyLog log;
+    const RunSummary r = sim.run({&log});
+    EXPECT_GT(r.splits, 50);
+    EXPECT_GT(sim.fracture().tip_x(), 60e-3);  // from the notch tip at 50 mm
+    const Energies& e = log.rows.back();
+    EXPECT_GT(e.cohesive_dissipated, 0);
+    EXPECT_LT(std::abs(e.total()) / e.external_work, 1e-2);
+  }
+  const testing::ThreadRun one = testing::run_on_threads(s, *mesh, 1);
+  const testing::ThreadRun two = testing::run_on_threads(s, *mesh, 2);
+  EXPECT_EQ(one.splits, two.splits);
+  EXPECT_EQ(one.x, two.x);
+  EXPECT_EQ(one.v, two.v);
+}
+
+}  // namespace
+}  // namespace brittle
