@@ -6,6 +6,8 @@
 #include <map>
 
 #include <vtkCellArray.h>
+#include <vtkCellType.h>
+#include <vtkIdList.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetSurfaceFilter.h>
 #include <vtkFieldData.h>
@@ -25,12 +27,52 @@ namespace {
 using Point = std::array<double, 3>;
 using FaceKey = std::array<Point, 3>;  ///< sorted reference positions of a triangle
 
+/// A 2D body's crack (issue 53): a cracked edge is two boundary edges of the triangles with the
+/// same two reference positions; each side as the "face" (a, b, b), which draws as the edge.
+CrackSurface find_crack_edges(vtkUnstructuredGrid& grid, vtkDataArray& X) {
+  std::map<std::pair<vtkIdType, vtkIdType>, int> uses;  // edges by grid point ids
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < grid.GetNumberOfCells(); ++c) {
+    grid.GetCellPoints(c, cell);
+    if (cell->GetNumberOfIds() != 3) continue;
+    for (int i = 0; i < 3; ++i) {
+      const vtkIdType a = cell->GetId(i), b = cell->GetId((i + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  struct Seen {
+    int count = 0;
+    std::array<vtkIdType, 2> first{}, second{};
+  };
+  std::map<std::array<Point, 2>, Seen> by_key;
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;  // interior
+    std::array<Point, 2> key;
+    X.GetTuple(edge.first, key[0].data());
+    X.GetTuple(edge.second, key[1].data());
+    std::sort(key.begin(), key.end());
+    Seen& seen = by_key[key];
+    (seen.count == 0 ? seen.first : seen.second) = {edge.first, edge.second};
+    ++seen.count;
+  }
+  CrackSurface crack;
+  for (const auto& [key, seen] : by_key)
+    if (seen.count == 2) {
+      crack.faces.push_back({seen.first[0], seen.first[1], seen.first[1]});
+      crack.faces.push_back({seen.second[0], seen.second[1], seen.second[1]});
+      ++crack.face_count;
+    }
+  return crack;
+}
+
 }  // namespace
 
 CrackSurface find_crack_surface(vtkUnstructuredGrid& grid) {
   vtkDataArray* X = grid.GetPointData()->GetArray(field::reference_position);
   BRITTLE_CHECK(X && X->GetNumberOfComponents() == 3, "render: crack frames need the point data '",
                 field::reference_position, "'");
+  if (grid.GetNumberOfCells() > 0 && grid.GetCellType(0) == VTK_TRIANGLE)
+    return find_crack_edges(grid, *X);
   CrackSurface crack;
   // Boundary triangles of the (split) grid, with the grid's point ids.
   vtkNew<vtkDataSetSurfaceFilter> surface;

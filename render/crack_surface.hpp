@@ -17,7 +17,8 @@ class vtkUnstructuredGrid;
 namespace brittle::render {
 
 struct CrackSurface {
-  /// Both sides of every cracked face: point ids of the grid, 3 per triangle.
+  /// Both sides of every cracked face: point ids of the grid, 3 per triangle (a 2D body's
+  /// cracked edge a-b: (a, b, b)).
   std::vector<std::array<vtkIdType, 3>> faces;
   /// Cracked faces counted once (the two sides are one face).
   long face_count = 0;

@@ -287,6 +287,43 @@ TEST(CrackSurface, StraightCutGivesThePlanesFacesTwice) {
     }
 }
 
+/// The same cut in a 2D body (issue 53): the cracked edges of y = 0, both sides, each drawn as
+/// the "face" (a, b, b).
+TEST(CrackSurface, StraightCutOfA2DBodyGivesItsEdgesTwice) {
+  brittle::Scene scene = small_scene(
+      {"mesh.size=1e-3", "mesh.dimension=2", "material.plane=stress", "damage.beta1=0"});
+  auto mesh = brittle::make_mesh(scene);
+  brittle::Simulation sim(scene, *mesh);
+  const brittle::Grid& grid = sim.grid();
+  ASSERT_EQ(grid.corners(), 3);
+  EXPECT_EQ(brittle::render::find_crack_surface(*grid.vtk()).face_count, 0);
+  const double a = scene.geometry.notch_depth, c = 12e-3;
+  auto on_plane = [&](vtkIdType k) { return std::abs(grid.X()[3 * k + 1]) < 1e-12; };
+  auto cut = [&](vtkIdType k) {
+    return on_plane(k) && grid.X()[3 * k] >= a - 1e-12 && grid.X()[3 * k] <= c;
+  };
+  std::set<std::array<vtkIdType, 2>> plane_edges;
+  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+    for (int i = 0; i < 3; ++i) {
+      std::array<vtkIdType, 2> f = {grid.cells()[3 * e + i], grid.cells()[3 * e + (i + 1) % 3]};
+      std::sort(f.begin(), f.end());
+      if (on_plane(f[0]) && on_plane(f[1]) && (cut(f[0]) || cut(f[1]))) plane_edges.insert(f);
+    }
+  ASSERT_GT(plane_edges.size(), 5u);
+  std::vector<brittle::SplitCandidate> nodes;
+  for (vtkIdType k = 0; k < grid.num_points(); ++k)
+    if (cut(k)) nodes.push_back({k, 1.0, brittle::Vec3::UnitY()});
+  for (const auto& n : nodes)
+    sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {n});
+  const auto crack = brittle::render::find_crack_surface(*sim.grid().vtk());
+  EXPECT_EQ(crack.face_count, static_cast<long>(plane_edges.size()));
+  ASSERT_EQ(crack.faces.size(), 2 * plane_edges.size());
+  for (const auto& face : crack.faces) {
+    EXPECT_EQ(face[1], face[2]);
+    for (vtkIdType k : face) EXPECT_NEAR(sim.grid().X()[3 * k + 1], 0.0, 1e-12);
+  }
+}
+
 TEST_F(Render, ChangedColourRangeFailsComparison) {
   if (regenerating()) GTEST_SKIP();
   auto image = render_small(Field::sigma1, {"render.sigma1_max=1.0"});
