@@ -241,14 +241,21 @@ TEST(Decomposed, NodalStepBoundAndMassScalingHaveTheSerialBits) {
   EXPECT_GT(c.splits, 10);
 }
 
+/// The branching scene on a 1 mm mesh with `criterion` (a length of 2.5 mm where it takes one).
+Scene criterion_scene(FractureParams::Criterion criterion) {
+  Scene s = branching_scene();
+  s.mesh.size = 1e-3;
+  s.fracture.criterion = criterion;
+  s.fracture.length = 2.5e-3;
+  return s;
+}
+
 /// The facet criterion (issue 52, item 1): each face decided by the owner of its corner with
 /// the smallest global id, the opened faces agreed over the ranks in the serial order, a
 /// node's groups split by its owner, the splits shared in node order: the serial bits, on
 /// stripes that the crack crosses.
 TEST(Decomposed, FacetCriterionHasTheSerialBits) {
-  Scene s = branching_scene();
-  s.mesh.size = 1e-3;
-  s.fracture.criterion = FractureParams::Criterion::facet;
+  const Scene s = criterion_scene(FractureParams::Criterion::facet);
   const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
   EXPECT_GT(c.splits, 10);
   if (ranks() > 1) {
@@ -264,10 +271,7 @@ TEST(Decomposed, CriteriaThatReadFurtherHaveTheSerialBits) {
   for (const Name name : {Name::nonlocal_facet, Name::coupled_facet, Name::recovered_facet,
                           Name::energy}) {
     SCOPED_TRACE(static_cast<int>(name));
-    Scene s = branching_scene();
-    s.mesh.size = 1e-3;
-    s.fracture.criterion = name;
-    s.fracture.length = 2.5e-3;
+    const Scene s = criterion_scene(name);
     const Crossings c = expect_serial_bits(s, 2, 150, stripes(s, 3e-3));
     EXPECT_GT(c.splits, 10);
   }
@@ -275,10 +279,7 @@ TEST(Decomposed, CriteriaThatReadFurtherHaveTheSerialBits) {
 
 /// A part cut without the reach its criterion asks for is refused at the start, in one line.
 TEST(Decomposed, PartWithoutTheCriterionsReachIsRefused) {
-  Scene s = branching_scene();
-  s.mesh.size = 1e-3;
-  s.fracture.criterion = FractureParams::Criterion::nonlocal_facet;
-  s.fracture.length = 2.5e-3;
+  const Scene s = criterion_scene(FractureParams::Criterion::nonlocal_facet);
   auto mesh = generate_plate_mesh(s.geometry, s.mesh);
   const Grid whole(*mesh);
   const LocalPart part = extract_part(whole, partition_grid(whole, ranks()), rank());

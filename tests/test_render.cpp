@@ -248,6 +248,17 @@ TEST_F(Render, CrackFrameShowsTheCrackAndItsTip) {
   EXPECT_EQ(none.red, 0);
 }
 
+/// Splits every node `cut` selects on the plane y = 0 (normal y), then finds the crack.
+template <class Cut>
+brittle::render::CrackSurface cut_and_find(brittle::Simulation& sim, Cut cut) {
+  std::vector<brittle::SplitCandidate> nodes;
+  for (vtkIdType k = 0; k < sim.grid().num_points(); ++k)
+    if (cut(k)) nodes.push_back({k, 1.0, brittle::Vec3::UnitY()});
+  for (const auto& n : nodes)
+    sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {n});
+  return brittle::render::find_crack_surface(*sim.grid().vtk());
+}
+
 /// Crack faces found from the reference positions of a hand-made straight cut: every face of
 /// the plane y = 0 with a split node, both sides, and nothing else.
 TEST(CrackSurface, StraightCutGivesThePlanesFacesTwice) {
@@ -272,12 +283,7 @@ TEST(CrackSurface, StraightCutGivesThePlanesFacesTwice) {
         plane_faces.insert(f);
     }
   ASSERT_GT(plane_faces.size(), 10u);
-  std::vector<brittle::SplitCandidate> nodes;
-  for (vtkIdType k = 0; k < grid.num_points(); ++k)
-    if (cut(k)) nodes.push_back({k, 1.0, brittle::Vec3::UnitY()});
-  for (const auto& n : nodes)
-    sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {n});
-  const auto crack = brittle::render::find_crack_surface(*sim.grid().vtk());
+  const auto crack = cut_and_find(sim, cut);
   EXPECT_EQ(crack.face_count, static_cast<long>(plane_faces.size()));
   ASSERT_EQ(crack.faces.size(), 2 * plane_faces.size());
   for (const auto& face : crack.faces)
@@ -310,12 +316,7 @@ TEST(CrackSurface, StraightCutOfA2DBodyGivesItsEdgesTwice) {
       if (on_plane(f[0]) && on_plane(f[1]) && (cut(f[0]) || cut(f[1]))) plane_edges.insert(f);
     }
   ASSERT_GT(plane_edges.size(), 5u);
-  std::vector<brittle::SplitCandidate> nodes;
-  for (vtkIdType k = 0; k < grid.num_points(); ++k)
-    if (cut(k)) nodes.push_back({k, 1.0, brittle::Vec3::UnitY()});
-  for (const auto& n : nodes)
-    sim.fracture().split(sim.grid(), sim.elements(), sim.forces(), {n});
-  const auto crack = brittle::render::find_crack_surface(*sim.grid().vtk());
+  const auto crack = cut_and_find(sim, cut);
   EXPECT_EQ(crack.face_count, static_cast<long>(plane_edges.size()));
   ASSERT_EQ(crack.faces.size(), 2 * plane_edges.size());
   for (const auto& face : crack.faces) {
