@@ -368,12 +368,13 @@ RunSummary run_decomposed(Scene scene, const std::vector<Observer*>& extra,
     }
     const Grid whole(*mesh);
     std::vector<int> cell_part(whole.num_cells(), 0);
+    const BodySizes body = grid_body_sizes(whole);  // (once: the reach and the parts)
     on_every_rank([&] {
-      if (rank == 0 && ranks > 1) cell_part = partition_grid(whole, ranks).cell_part;
+      if (rank == 0 && ranks > 1) cell_part = partition_grid(whole, ranks, {}, &body).cell_part;
     });
     MPI_Bcast(cell_part.data(), static_cast<int>(cell_part.size()), MPI_INT, 0, MPI_COMM_WORLD);
-    const Partition partition = partition_from(whole, std::move(cell_part), ranks,
-                                               ghost_reach(scene, grid_body_sizes(whole)));
+    const Partition partition =
+        partition_from(whole, std::move(cell_part), ranks, ghost_reach(scene, body), &body);
     LocalPart part = extract_part(whole, partition, rank);
     add_groups(*mesh, part);
     mesh = nullptr;  // the whole mesh is not needed from here on
@@ -426,8 +427,9 @@ void absorb_pieces(Simulation& whole, vtkUnstructuredGrid& mesh, const std::stri
                    const CheckpointHeader& h) {
   const Grid initial(mesh);
   const int parts = static_cast<int>(h.pieces);
-  const Partition partition = partition_grid(  // as that run cut it
-      initial, parts, ghost_reach(whole.scene(), grid_body_sizes(initial)));
+  const BodySizes body = grid_body_sizes(initial);
+  const Partition partition =  // as that run cut it
+      partition_grid(initial, parts, ghost_reach(whole.scene(), body), &body);
   for (int p = 0; p < parts; ++p) {
     LocalPart part = extract_part(initial, partition, p);
     add_groups(mesh, part);
@@ -523,7 +525,8 @@ int partition_command(const std::vector<std::string>& args) {
   Grid grid(*mesh);
   // The ghost cells the scene's criterion reads past the first layer (docs/parallel.md, "Ghost
   // depth"): the pieces hold them, and a run checks that they do.
-  const GhostReach reach = ghost_reach(scene, grid_body_sizes(grid));
+  const BodySizes body = grid_body_sizes(grid);
+  const GhostReach reach = ghost_reach(scene, body);
   std::printf("%lld tets, %lld nodes; ghost reach %d layer%s + %.3g mm (fracture.criterion)\n",
               static_cast<long long>(grid.num_cells()),
               static_cast<long long>(grid.num_points()), reach.layers,
@@ -532,7 +535,7 @@ int partition_command(const std::vector<std::string>& args) {
               "cut faces", "ghost nodes", "ghost/owned", "redundant tets", "extra ghosts",
               "max ghosts", "max neighb.", "max bytes/step");
   for (int parts : counts) {
-    const Partition p = partition_grid(grid, parts, reach);
+    const Partition p = partition_grid(grid, parts, reach, &body);
     long extra = 0;
     for (const PartStats& s : p.stats) extra += s.extra_ghost_cells;
     long most_ghosts = 0;

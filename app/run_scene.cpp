@@ -187,8 +187,9 @@ void dry_run(Scene scene, std::ostream& out, int ranks) {
   // whole-grid index arrays of this version); rank 0, which meshes or reads the whole plate,
   // 146 MB + 536 B + 196 B. One thread per rank steps at about 10 M tet-updates/s on the build
   // machine.
-  const GhostReach reach = ghost_reach(sim.scene(), grid_body_sizes(sim.grid()));
-  const Partition p = partition_grid(sim.grid(), ranks, reach);
+  const BodySizes body = grid_body_sizes(sim.grid());
+  const GhostReach reach = ghost_reach(sim.scene(), body);
+  const Partition p = partition_grid(sim.grid(), ranks, reach, &body);
   std::snprintf(text, sizeof text,
                 "  over %d ranks (METIS; imbalance %.3f, %.2f%% of the tets computed twice; "
                 "ghost reach %d layer%s + %.3g mm for the criterion):\n"

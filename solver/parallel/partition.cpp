@@ -55,7 +55,8 @@ void node_cells(const Grid& grid, std::vector<long>& start, std::vector<long>& c
 
 }  // namespace
 
-Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach) {
+Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach,
+                         const BodySizes* body) {
   BRITTLE_CHECK(parts >= 1, "partition: ", parts, " parts (expected at least 1)");
   const vtkIdType n = grid.num_points(), m = grid.num_cells();
   BRITTLE_CHECK(m < (vtkIdType(1) << 29), "partition: ", m,
@@ -82,7 +83,7 @@ Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach) {
     p.cut_faces = objval;
   }
   const long cut = p.cut_faces;
-  p = partition_from(grid, std::move(p.cell_part), parts, reach);
+  p = partition_from(grid, std::move(p.cell_part), parts, reach, body);
   p.cut_faces = cut;
   return p;
 }
@@ -188,7 +189,7 @@ class Reach {
 }  // namespace
 
 Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts,
-                         const GhostReach& reach) {
+                         const GhostReach& reach, const BodySizes* body) {
   const vtkIdType n = grid.num_points(), m = grid.num_cells();
   BRITTLE_CHECK(parts >= 1 && static_cast<vtkIdType>(cell_part.size()) == m,
                 "partition: ", cell_part.size(), " cell parts for ", m, " cells in ", parts,
@@ -202,7 +203,7 @@ Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts
   p.parts = parts;
   p.reach = reach;
   p.cell_part = std::move(cell_part);
-  p.body = grid_body_sizes(grid);
+  p.body = body ? *body : grid_body_sizes(grid);
   std::vector<long> start, cells;
   node_cells(grid, start, cells);
   p.node_owner.assign(n, 0);

@@ -75,12 +75,14 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank);
 /// fixed seed, so the same grid always gives the same partition: the reach does not change it)
 /// and computes each part's ghost cells for `reach`. parts = 1 gives everything to part 0.
 /// Throws brittle::Error if METIS fails.
-Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach = {});
+/// `body`: the grid's BodySizes if the caller has them (else computed here).
+Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach = {},
+                         const BodySizes* body = nullptr);
 
 /// A given cell partition (cell_part: per cell, 0..parts-1; tests place boundaries by hand) with
 /// the node owners and ghost cells it implies. cut_faces is left 0.
 Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts,
-                         const GhostReach& reach = {});
+                         const GhostReach& reach = {}, const BodySizes* body = nullptr);
 
 /// The whole grid's BodySizes (its element sizes as ElementData's h_e).
 BodySizes grid_body_sizes(const Grid& grid);

@@ -30,8 +30,7 @@ StableStep triangle_step(const double* x, const vtkIdType* cells, const double* 
   const double eta_P = el.eta_dil(e) + (4.0 / 3.0) * el.eta_dev(e);
   // J: the areas' ratio (the thickness's change in plane stress left out, as the tets' bound
   // leaves out the shape's)
-  const double J = 0.5 * area2 * el.thickness * el.inv_V0[e];
-  (void)V0;
+  const double J = 0.5 * area2 * el.thickness / V0[e];
   const double xi = altitude > 0 ? eta_P * J / (c.rho0 * c.c_p * altitude) : 0.0;
   const double dt = cfl * altitude / c.c_p * (std::sqrt(1.0 + xi * xi) - xi);
   return StableStep{dt, e, altitude, xi};
