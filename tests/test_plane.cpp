@@ -8,10 +8,13 @@
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <omp.h>
 #include <random>
 
 #include "fixtures.hpp"
+#include "nodal_step.hpp"
 #include "plate_mesh.hpp"
 #include "simulation.hpp"
 #include "triangle_forces.hpp"
@@ -133,8 +136,6 @@ TEST(Plane, TriangleForcesAreTheGradientOfItsEnergy) {
   }
 }
 
-/// mesh.dimension = 2: Gmsh's triangles of the notched glass plate, counter-clockwise in
-/// z = 0, covering the plate's area less the notch's.
 /// The glass plate of scenes/glass-branching.ini as a 2D body (triangles), pulled by tractions
 /// on its edges, no fracture: a scene for the tests below.
 Scene glass_2d(MaterialParams::Plane plane, double end_time) {
@@ -235,6 +236,120 @@ TEST(Plane, FacetCracksOnEdgesKeepTheBudgetOnAnyThreadCount) {
   EXPECT_EQ(one.splits, two.splits);
   EXPECT_EQ(one.x, two.x);
   EXPECT_EQ(one.v, two.v);
+}
+
+/// The blocked triangle kernel (ForceAssembler::triangle_block) against triangle_update, the
+/// one-element reference, on random in-plane deformations (small: plane stress's vector
+/// Newton steps; large: its scalar root) and velocities, in both plane states: forces, stress,
+/// volume, P_v and the step's viscous work to 1e-12. The forces read back through the element
+/// buffer come from recompute_block: every node's sum from the element loop must be bitwise
+/// their sum in cell order, on 1 and 2 threads alike.
+TEST(Plane, BlockedTrianglesEqualTheReferenceAndTheirRecomputedBits) {
+  for (const auto plane : {MaterialParams::Plane::stress, MaterialParams::Plane::strain}) {
+    SCOPED_TRACE(plane == MaterialParams::Plane::strain ? "strain" : "stress");
+    Scene s = glass_2d(plane, 1e-6);
+    s.mesh.size = 4e-3, s.mesh.band_size = 2e-3;
+    auto mesh = make_mesh(s);
+    Simulation sim(s, *mesh);
+    Grid& g = sim.grid();
+    ForceAssembler& fa = sim.forces();
+    const vtkIdType ne = g.num_cells();
+    ASSERT_NE(ne % ForceAssembler::kLanes, 0) << "the last block should be partly filled";
+    std::mt19937_64 rng(20261207);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (double amplitude : {0.002, 0.01, 0.1}) {
+      SCOPED_TRACE(amplitude);
+      for (vtkIdType p = 0; p < g.num_points(); ++p)
+        for (int i = 0; i < 2; ++i) {
+          g.x()[3 * p + i] = g.X()[3 * p + i] + amplitude * 1e-3 * unit(rng);
+          g.v()[3 * p + i] = 20.0 * unit(rng);
+        }
+      std::vector<double> P_old(9 * ne);
+      for (vtkIdType e = 0; e < ne; ++e) fa.viscous_stress_power(e, P_old.data() + 9 * e);
+      const std::vector<double> work(fa.viscous_works(), fa.viscous_works() + ne);
+      std::vector<double> first;
+      for (int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        // (the forces depend on x and v alone: the second compute gives them again; dt = 0
+        // leaves the viscous work as the first left it)
+        ASSERT_LT(fa.compute(g, threads == 1 ? 1.0 : 0.0), 0);
+        const std::vector<double> f = fa.nodal_forces();
+        if (threads == 1) first = f;
+        EXPECT_EQ(f, first);
+        for (vtkIdType p = 0; p < g.num_points(); ++p) {
+          double sum[3] = {0, 0, 0};
+          for (vtkIdType k = fa.node_start()[p]; k < fa.node_end()[p]; ++k) {
+            const Vec3 c = fa.corner_force(fa.node_entries()[k] / 4, fa.node_entries()[k] % 4);
+            for (int i = 0; i < 3; ++i) sum[i] += c[i];
+          }
+          for (int i = 0; i < 3; ++i) ASSERT_EQ(f[3 * p + i], sum[i]) << "node " << p;
+          ASSERT_EQ(f[3 * p + 2], 0.0);
+        }
+        if (threads == 2) break;
+        for (vtkIdType e = 0; e < ne; ++e) {  // (the first compute: the step from P_old)
+          const ElementUpdate ref =
+              triangle_update(g, sim.elements(), sim.constants(), plane, e, P_old.data() + 9 * e);
+          ASSERT_TRUE(ref.ok) << e;
+          double fs = 0, ss = 0, ps = 0, terms = 0;
+          for (double v : ref.force) fs = std::max(fs, std::abs(v));
+          for (double v : ref.stress) ss = std::max(ss, std::abs(v));
+          for (double v : ref.P_v) ps = std::max(ps, std::abs(v));
+          // The two roots lambda of T33 = 0 agree to an ulp or two, and the stress moves by
+          // about (K + 4/3 mu) per unit of lambda: 1e-15 (K + 2 mu) on top of 1e-12 |T|, and
+          // the forces (v T G^T) in proportion.
+          const double root = 1e-15 * (sim.constants().K + 2 * sim.constants().mu);
+          for (int k = 0; k < 9; ++k)
+            EXPECT_NEAR(fa.corner_force(e, k / 3)[k % 3], ref.force[k],
+                        (1e-12 + root / ss) * fs) << e;
+          for (int k = 0; k < 6; ++k)
+            EXPECT_NEAR(g.stress()[6 * e + k], ref.stress[k], 1e-12 * ss + root) << e << " " << k;
+          EXPECT_NEAR(fa.volumes()[e], ref.volume, 1e-14 * ref.volume) << e;
+          EXPECT_NEAR(fa.alpha1()[e], ref.alpha1, 1e-13 * ref.alpha1) << e;
+          EXPECT_NEAR(fa.sigma1_bound()[e], ref.sigma1_bound, 1e-12 * ss + root) << e;
+          double P[9];
+          fa.viscous_stress_power(e, P);
+          for (int k = 0; k < 9; ++k) EXPECT_NEAR(P[k], ref.P_v[k], 1e-12 * ps) << e;
+          for (int k = 0; k < 9; ++k) terms += std::abs(P_old[9 * e + k]) + std::abs(ref.P_v[k]);
+          EXPECT_NEAR(fa.viscous_works()[e] - work[e], ref.viscous_power,
+                      1e-12 * terms * 40.0) << e;
+          if (::testing::Test::HasFailure()) return;
+        }
+      }
+    }
+    omp_set_num_threads(2);
+  }
+}
+
+/// The nodal bound's element eigenvalue in 2D (stiffness_eigenvalue<2>, nodal_step.hpp): the
+/// closed form is the largest eigenvalue of the triangle's 6 x 6 stiffness V B^T D B, with D
+/// that of plane strain (lambda) or of plane stress (2 lambda mu / (lambda + 2 mu)).
+TEST(Plane, TriangleStiffnessEigenvalueInClosedForm) {
+  const double E = 32e9, nu = 0.2, mu = E / (2 * (1 + nu));
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1e-3);
+  for (double lam : {lambda, 2 * lambda * mu / (lambda + 2 * mu)})
+    for (int trial = 0; trial < 50; ++trial) {
+      Eigen::Matrix2d Ds;
+      Ds << u(rng), u(rng), u(rng), u(rng);
+      if (std::abs(Ds.determinant()) < 1e-9) continue;
+      const Eigen::Matrix2d R = Ds.inverse();  // rows: gradients of N1, N2
+      Eigen::Matrix<double, 3, 2> G;
+      G.row(1) = R.row(0), G.row(2) = R.row(1), G.row(0) = -(R.row(0) + R.row(1));
+      const double V = 0.5 * std::abs(Ds.determinant()) * 2e-3;
+      Eigen::Matrix<double, 3, 6> B = Eigen::Matrix<double, 3, 6>::Zero();
+      for (int a = 0; a < 3; ++a) {
+        B(0, 2 * a) = G(a, 0), B(1, 2 * a + 1) = G(a, 1);
+        B(2, 2 * a) = G(a, 1), B(2, 2 * a + 1) = G(a, 0);
+      }
+      Eigen::Matrix3d D;
+      D << lam + 2 * mu, lam, 0, lam, lam + 2 * mu, 0, 0, 0, mu;
+      const Eigen::Matrix<double, 6, 6> K = V * B.transpose() * D * B;
+      const double exact = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(K)
+                               .eigenvalues()
+                               .maxCoeff();
+      EXPECT_NEAR(stiffness_eigenvalue<2>(G.transpose() * G, V, lam, mu), exact, 1e-9 * exact);
+    }
 }
 
 }  // namespace

@@ -156,7 +156,6 @@ ForceAssembler::ForceAssembler(const Grid& grid, const ElementData& el, const El
       alpha1_(kLanes * blocks_.size(), 3.0),
       stored_(blocks_.size(), 1) {  // the element buffer's zeros are the forces until a step
   const vtkIdType ne = grid.num_cells();
-  if (corners_ == 3) tri_P_v_.assign(9 * ne, 0.0);
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     Block& B = blocks_[b];
     for (int l = 0; l < kLanes; ++l) {
@@ -377,6 +376,21 @@ inline void prefetch_block(const Blk& B, const double* work) {
   __builtin_prefetch(work, 1);
 }
 
+/// The lines of a block that a triangle reads (corners 0-2, Dm^-1 and P_v slots 0, 1, 3, 4,
+/// V0, h_e): half of the block.
+template <class Blk>
+inline void prefetch_triangles(const Blk& B, const double* work) {
+  __builtin_prefetch(&B.node[0][0], 1);
+  __builtin_prefetch(&B.node[2][0], 1);
+  for (int k : {0, 1, 3, 4}) {
+    __builtin_prefetch(&B.Dm_inv[k][0], 1);
+    __builtin_prefetch(&B.P_v[k][0], 1);
+  }
+  __builtin_prefetch(&B.V0[0], 1);
+  __builtin_prefetch(&B.h_e[0], 1);
+  __builtin_prefetch(work, 1);
+}
+
 /// Orders a thread's non-temporal stores before what follows (the end of the parallel region).
 inline void end_streaming() {
 #if defined(__SSE2__)
@@ -428,7 +442,6 @@ void ForceAssembler::partition(int ranges, const std::uint8_t* late) {
 }
 
 vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Overlap* overlap) {
-  if (corners_ == 3) return compute_triangles(grid, dt);  // (one process: overlap unused)
   const vtkIdType ne = grid.num_cells(), np = grid.num_points();
   const double *x = grid.x(), *v = grid.v(), *Omega = grid.damage();
   double* stress = grid.stress();
@@ -458,6 +471,8 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Ov
   vtkIdType first_bad = std::numeric_limits<vtkIdType>::max();
   const bool two_passes = overlap != nullptr;
   const std::uint8_t* late_block = late_block_.data();
+  const int corners = corners_;
+  const bool triangles = corners == 3;
 
   for (int pass = 0; pass < (two_passes ? 2 : 1); ++pass) {
     if (pass == 1) overlap->wait();  // the late blocks' ghost values
@@ -474,67 +489,76 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Ov
           Block& B = blocks_[b];
           const vtkIdType e0 = b * W;
           const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
-          if (b + kAhead < range_start_[range + 1])
-            prefetch_block(blocks_[b + kAhead], work + e0 + kAhead * W);
+          if (b + kAhead < range_start_[range + 1]) {
+            if (triangles)
+              prefetch_triangles(blocks_[b + kAhead], work + e0 + kAhead * W);
+            else
+              prefetch_block(blocks_[b + kAhead], work + e0 + kAhead * W);
+          }
           Pass1 p;
           BlockOut r;
           double* work_io = work + e0;
           double alpha1_out[W], vol_out[W], bound_out[W];
           double omega[W];
           for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
-          pass1(B, x, p);
+          if (triangles) {
+            triangle_block<true>(B, omega, dt, work_io, r.f, r.s, p.J, alpha1_out, vol_out,
+                                 bound_out);
+          } else {
+            pass1(B, x, p);
 
-          // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
+            // Pass 2: T_el (B.4), L, T_v (B.5), the corner forces and the viscous power.
 #pragma omp simd
-          for (int l = 0; l < W; ++l) {
-            double G[9];
-            for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
-            const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
-            const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
-            alpha1_out[l] = st.alpha1;
-            // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
-            const double* v0 = v + 3 * B.node[0][l];
-            double Vs[9];
-            for (int k = 0; k < 3; ++k) {
-              const double* vk = v + 3 * B.node[k + 1][l];
-              for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
-            }
-            double L[9];
-            for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j)
-                L[3 * i + j] =
-                    Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
-            const double trD = L[0] + L[4] + L[8];
-            const double eta_dev = eta_dev_per_h * B.h_e[l];
-            const double bulk = (eta_dil_per_h * B.h_e[l] - eta_dev * (2.0 / 3.0)) * trD;
-            double Tv[9];
-            for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
-            Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
-            // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
-            const double vol = p.vol[l];
-            double old_work = 0.0, new_work = 0.0;
-            double f0[3] = {0.0, 0.0, 0.0};
-            for (int j = 0; j < 3; ++j)
-              for (int i = 0; i < 3; ++i) {
-                const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
-                                         Tv[3 * i + 2] * G[3 * j + 2]);
-                const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
-                                                   G[3 * j + 1], G[3 * j + 2], vol, Pv);
-                r.f[3 * (j + 1) + i][l] = fc;
-                f0[i] -= fc;
-                const double P_old = B.P_v[3 * j + i][l];
-                old_work += P_old * Vs[3 * i + j];
-                new_work += Pv * Vs[3 * i + j];
-                B.P_v[3 * j + i][l] = Pv;
+            for (int l = 0; l < W; ++l) {
+              double G[9];
+              for (int k = 0; k < 9; ++k) G[k] = p.G[k][l];
+              const LaneStress st = elastic_stress(B, p, l, 1.0 - omega[l], K, mu);
+              const double T[9] = {st.xx, st.xy, st.xz, st.xy, st.yy, st.yz, st.xz, st.yz, st.zz};
+              alpha1_out[l] = st.alpha1;
+              // L = Vs G, D = sym L; T_v = eta_dil tr(D) I + 2 eta_dev dev(D)
+              const double* v0 = v + 3 * B.node[0][l];
+              double Vs[9];
+              for (int k = 0; k < 3; ++k) {
+                const double* vk = v + 3 * B.node[k + 1][l];
+                for (int i = 0; i < 3; ++i) Vs[3 * i + k] = vk[i] - v0[i];
               }
-            for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
-            const double power = 0.5 * (old_work + new_work);
-            work_io[l] += dt * power;  // the viscous work of the step (one sum per element)
-            vol_out[l] = vol;
-            bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
-            r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
-            r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
+              double L[9];
+              for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                  L[3 * i + j] =
+                      Vs[3 * i] * G[j] + Vs[3 * i + 1] * G[3 + j] + Vs[3 * i + 2] * G[6 + j];
+              const double trD = L[0] + L[4] + L[8];
+              const double eta_dev = eta_dev_per_h * B.h_e[l];
+              const double bulk = (eta_dil_per_h * B.h_e[l] - eta_dev * (2.0 / 3.0)) * trD;
+              double Tv[9];
+              for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) Tv[3 * i + j] = eta_dev * (L[3 * i + j] + L[3 * j + i]);
+              Tv[0] += bulk, Tv[4] += bulk, Tv[8] += bulk;
+              // P_v = v T_v G^T; f = -v T_el G^T - P_v: columns j = corners 1..3, f_0 = -sum
+              const double vol = p.vol[l];
+              double old_work = 0.0, new_work = 0.0;
+              double f0[3] = {0.0, 0.0, 0.0};
+              for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i) {
+                  const double Pv = vol * (Tv[3 * i] * G[3 * j] + Tv[3 * i + 1] * G[3 * j + 1] +
+                                           Tv[3 * i + 2] * G[3 * j + 2]);
+                  const double fc = corner_component(T[3 * i], T[3 * i + 1], T[3 * i + 2], G[3 * j],
+                                                     G[3 * j + 1], G[3 * j + 2], vol, Pv);
+                  r.f[3 * (j + 1) + i][l] = fc;
+                  f0[i] -= fc;
+                  const double P_old = B.P_v[3 * j + i][l];
+                  old_work += P_old * Vs[3 * i + j];
+                  new_work += Pv * Vs[3 * i + j];
+                  B.P_v[3 * j + i][l] = Pv;
+                }
+              for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
+              const double power = 0.5 * (old_work + new_work);
+              work_io[l] += dt * power;  // the viscous work of the step (one sum per element)
+              vol_out[l] = vol;
+              bound_out[l] = sigma1_upper_bound(T[0], T[4], T[8], T[1], T[5], T[2]);
+              r.s[0][l] = T[0], r.s[1][l] = T[4], r.s[2][l] = T[8];
+              r.s[3][l] = T[1], r.s[4][l] = T[5], r.s[5][l] = T[2];
+            }
           }
 
           // The per-element results: each a whole cache line per block, streamed past the
@@ -556,11 +580,12 @@ vtkIdType ForceAssembler::compute_elements(const Grid& grid, double dt, const Ov
             if (bound_out[l] >= hot_threshold) hot_[range].push_back(e);
             const double s6[6] = {r.s[0][l], r.s[1][l], r.s[2][l], r.s[3][l], r.s[4][l], r.s[5][l]};
             store_stress(stress + 6 * e, s6, stream);
-            for (int c = 0; c < 4; ++c) {
+            for (int c = 0; c < corners; ++c) {
               const std::int32_t n = B.node[c][l];
               if (mixed && straddles[n]) continue;
               double* fn = f + 3 * n;
-              fn[0] += r.f[3 * c][l], fn[1] += r.f[3 * c + 1][l], fn[2] += r.f[3 * c + 2][l];
+              fn[0] += r.f[3 * c][l], fn[1] += r.f[3 * c + 1][l];
+              if (!triangles) fn[2] += r.f[3 * c + 2][l];  // (a triangle's z forces are 0)
             }
             if (mixed)
               for (int k = 0; k < 12; ++k) ef[12 * e + k] = r.f[k][l];
@@ -578,13 +603,22 @@ void ForceAssembler::recompute_block(vtkIdType b) {
   const Grid& grid = *grid_;
   const vtkIdType ne = grid.num_cells();
   const double *x = grid.x(), *Omega = grid.damage();
-  const Block& B = blocks_[b];
+  Block& B = blocks_[b];
   const vtkIdType e0 = b * W;
   const int lanes = static_cast<int>(std::min<vtkIdType>(W, ne - e0));
   Pass1 p;
   BlockOut r;
   double omega[W];
   for (int l = 0; l < W; ++l) omega[l] = Omega[e0 + (l < lanes ? l : 0)];
+  double* ef = element_force_.data();
+  if (corners_ == 3) {  // the step's triangle_block with its stored P_v
+    double alpha1[W], vol[W], bound[W];
+    triangle_block<false>(B, omega, 0.0, nullptr, r.f, r.s, p.J, alpha1, vol, bound);
+    for (int l = 0; l < lanes; ++l)
+      for (int k = 0; k < 12; ++k) ef[12 * (e0 + l) + k] = r.f[k][l];
+    stored_[b] = 1;
+    return;
+  }
   pass1(B, x, p);
   const double K = K_, mu = mu_;
   // As the step's pass 2, with the P_v it stored: the same forces, bit for bit.
@@ -605,7 +639,6 @@ void ForceAssembler::recompute_block(vtkIdType b) {
       }
     for (int i = 0; i < 3; ++i) r.f[i][l] = f0[i];
   }
-  double* ef = element_force_.data();
   for (int l = 0; l < lanes; ++l)
     for (int k = 0; k < 12; ++k) ef[12 * (e0 + l) + k] = r.f[k][l];
   stored_[b] = 1;

@@ -19,6 +19,8 @@ namespace brittle {
 struct ElementData {
   int corners = 4;              ///< 4: tets; 3: triangles (make_triangle_data)
   double thickness = 0;         ///< triangles: the body's thickness (V0 = area x thickness)
+  /// triangles: the plane state (material.plane), for what needs the in-plane moduli
+  MaterialParams::Plane plane = MaterialParams::Plane::strain;
   std::vector<double> Dm_inv;   ///< 9 per element, row-major inverse of [X1-X0, X2-X0, X3-X0]
   std::vector<double> V0;       ///< reference volume
   std::vector<double> inv_V0;   ///< 1 / V0
@@ -237,9 +239,6 @@ class ForceAssembler {
   void rebuild_tables(const Grid& grid);
 
  private:
-  /// compute_elements of a grid of triangles (triangle_forces.cpp): each element's
-  /// triangle_update, then every node's sum in cell order.
-  vtkIdType compute_triangles(const Grid& grid, double dt);
   void gather_all(const Grid& grid);
   void load_connectivity(const Grid& grid);
   /// Splits the blocks into `ranges` ranges and flags the nodes whose cells lie in two, or in
@@ -267,12 +266,20 @@ class ForceAssembler {
     double V0[kLanes], inv_V0[kLanes], h_e[kLanes];  // the viscosities are per_h_ x h_e
     double P_v[9][kLanes];     // v T_v G^T of the last step, column-major 3x3
   };
+  /// The element loop's work on one block of triangles (triangle_forces.cpp): T_el, and
+  /// for Step also L, T_v, P_v (stored in the block), the viscous work into `work`; the corner
+  /// forces f (corner 3 and every z component 0), the stress s, J (> 0 unless inverted),
+  /// alpha1, the volume and the stress bound, lane-minor. Without Step the P_v of the last
+  /// step: recompute_block's forces, bit for bit those of the step.
+  template <bool Step>
+  void triangle_block(Block& B, const double* omega, double dt, double* work,
+                      double (*f)[kLanes], double (*s)[kLanes], double* J, double* alpha1,
+                      double* vol, double* bound) const;
 
   const Grid* grid_;
   const ElementData* elements_;
-  int corners_ = 4;                     // 3: triangles (compute_triangles)
+  int corners_ = 4;                     // 3: triangles (triangle_block)
   MaterialParams::Plane plane_ = MaterialParams::Plane::strain;
-  std::vector<double> tri_P_v_;         // triangles: 9 per element, the last step's P_v
   bool stream_ = false;
   double K_, mu_;
   double eta_dil_per_h_, eta_dev_per_h_;  // ElementData's: one material per grid

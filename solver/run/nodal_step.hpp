@@ -18,7 +18,15 @@ namespace brittle {
 /// the eigenvalues of G^T G (G: the 4 x 3 gradients of the shape functions),
 ///   lambda_max = V max(lambda_max(2 mu diag(h) + lambda sqrt(h) sqrt(h)^T), mu (h_2 + h_3)),
 /// the first for the gradients' diagonal (stretch) part, the second for a shear pair.
-double tet_stiffness_eigenvalue(const Mat3& GtG, double V, double lambda, double mu);
+/// The same for a linear triangle (Dim = 2: G the 3 x 2 in-plane gradients, V = area x
+/// thickness, (lambda, mu) the in-plane moduli: lambda itself in plane strain, 2 lambda mu /
+/// (lambda + 2 mu) in plane stress): one formula, the dimension its parameter (docs/model.md).
+template <int Dim>
+double stiffness_eigenvalue(const Eigen::Matrix<double, Dim, Dim>& GtG, double V, double lambda,
+                            double mu);
+inline double tet_stiffness_eigenvalue(const Mat3& GtG, double V, double lambda, double mu) {
+  return stiffness_eigenvalue<3>(GtG, V, lambda, mu);
+}
 
 /// The step's nodal bound: for every vector u, u^T K u = sum_e u_e^T K_e u_e <= sum_i |u_i|^2
 /// sum_{e at i} k_e (k_e = lambda_max(K_e)), so omega_max^2 <= max_i (sum_{e at i} k_e) / m_i;
