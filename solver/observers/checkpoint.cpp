@@ -71,19 +71,19 @@ void Grid::state(Ar& ar) {
   io_all(ar, np, nc);
   if constexpr (Ar::loading) {
     BRITTLE_CHECK(nc == static_cast<std::uint64_t>(num_cells_), ar.what(),
-                  ": the checkpoint has ", nc, " tets, the mesh ", num_cells_);
+                  ": the checkpoint has ", nc, " cells, the mesh ", num_cells_);
     ar.check(np, 3 * sizeof(double));
     grid_->GetPoints()->SetNumberOfPoints(static_cast<vtkIdType>(np));
   }
   ar.raw(static_cast<double*>(grid_->GetPoints()->GetData()->GetVoidPointer(0)), 3 * np);
   data_arrays(ar, grid_->GetPointData(), static_cast<vtkIdType>(np), "point");
   data_arrays(ar, grid_->GetCellData(), static_cast<vtkIdType>(nc), "cell");
-  ar.raw(grid_->GetCells()->GetConnectivityArray64()->GetPointer(0), 4 * nc);
+  ar.raw(grid_->GetCells()->GetConnectivityArray64()->GetPointer(0), corners_ * nc);
   if constexpr (Ar::loading) {
     refresh();
-    for (vtkIdType i = 0; i < 4 * num_cells_; ++i)
+    for (vtkIdType i = 0; i < corners_ * num_cells_; ++i)
       BRITTLE_CHECK(conn_[i] >= 0 && conn_[i] < num_points_, ar.what(),
-                    ": a tet refers to node ", conn_[i], " of ", num_points_);
+                    ": a cell refers to node ", conn_[i], " of ", num_points_);
     grid_->GetPoints()->Modified();
     grid_->GetCells()->Modified();
     mark_modified();
