@@ -26,7 +26,7 @@
 #
 # Usage (from anywhere; --out is relative to the current directory):
 #   bash bench/peer/run.sh [0.5e-3|0.25e-3 ...] [--out DIR] [--reuse] [--no-matched-dt]
-#                          [--safety F] [--nodal]
+#                          [--safety F] [--nodal] [--2d]
 #     sizes        element size = lattice spacing [m], any number of them (default 0.5e-3)
 #     --out DIR    where everything goes (default <repo>/out/peer, git-ignored): DIR/peer.md,
 #                  DIR/h<mm>mm/{brittle,lammps,lammps-matched-dt}/, DIR/h<mm>mm/side_by_side.png
@@ -36,6 +36,8 @@
 #                  start, speed and branching converge from 0.4 down, docs/peer.md)
 #     --nodal      brittle with the paper's nodal rule (scenes/glass-nodal.ini over the scene:
 #                  how docs/peer.md's table was made); default: the scene as shipped (facet)
+#     --2d         brittle's plate as a 2D body of triangles in plane stress
+#                  (scenes/glass-branching-2d.ini over the scene; issue 53, docs/peer.md)
 #     --ensemble N also brittle as an ensemble of N members varying the mesh realization
 #                  (`brittle study ensemble --vary mesh`, docs/ensembles.md) at the same h:
 #                  DIR/h<mm>mm/ensemble/ and DIR/h<mm>mm/ensemble_side_by_side.png, every
@@ -73,7 +75,8 @@ while [ $# -gt 0 ]; do
     --no-matched-dt) MATCHED=0; shift ;;
     --safety) SAFETY="$2"; shift 2 ;;
     --safety=*) SAFETY="${1#--safety=}"; shift ;;
-    --nodal) OVERLAY=("$ROOT/scenes/glass-nodal.ini"); shift ;;
+    --nodal) OVERLAY+=("$ROOT/scenes/glass-nodal.ini"); shift ;;
+    --2d) OVERLAY+=("$ROOT/scenes/glass-branching-2d.ini"); shift ;;
     --ensemble) ENSEMBLE="$2"; shift 2 ;;
     --ensemble=*) ENSEMBLE="${1#--ensemble=}"; shift ;;
     --set) SETS+=(--set "$2"); shift 2 ;;
