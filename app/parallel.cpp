@@ -275,6 +275,9 @@ vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   vtkSmartPointer<vtkUnstructuredGrid> mesh;
   std::vector<double> points;
   std::vector<std::int64_t> cells;
+  // tets, or a 2D body's triangles (mesh.dimension = 2), as Grid takes them
+  const int corners = scene.mesh.dimension == 2 ? 3 : 4;
+  const int type = corners == 3 ? VTK_TRIANGLE : VTK_TETRA;
   on_every_rank([&] {
     if (mpi_rank() != 0) return;
     mesh = make_mesh(scene);
@@ -282,9 +285,9 @@ vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
     for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p) mesh->GetPoint(p, &points[3 * p]);
     vtkNew<vtkIdList> ids;
     for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c) {
-      if (mesh->GetCellType(c) != VTK_TETRA) continue;  // as Grid takes them
+      if (mesh->GetCellType(c) != type) continue;
       mesh->GetCellPoints(c, ids);
-      for (int k = 0; k < 4; ++k) cells.push_back(ids->GetId(k));
+      for (int k = 0; k < corners; ++k) cells.push_back(ids->GetId(k));
     }
   });
   std::int64_t sizes[2] = {static_cast<std::int64_t>(points.size()),
@@ -302,14 +305,15 @@ vtkSmartPointer<vtkUnstructuredGrid> shared_mesh(const Scene& scene) {
   pts->SetDataTypeToDouble();
   pts->SetNumberOfPoints(sizes[0] / 3);
   for (std::int64_t p = 0; p < sizes[0] / 3; ++p) pts->SetPoint(p, &points[3 * p]);
-  auto tets = vtkSmartPointer<vtkCellArray>::New();
-  for (std::int64_t c = 0; c < sizes[1] / 4; ++c) {
-    const vtkIdType ids[4] = {cells[4 * c], cells[4 * c + 1], cells[4 * c + 2], cells[4 * c + 3]};
-    tets->InsertNextCell(4, ids);
+  auto array = vtkSmartPointer<vtkCellArray>::New();
+  for (std::int64_t c = 0; c < sizes[1] / corners; ++c) {
+    vtkIdType ids[4];
+    for (int k = 0; k < corners; ++k) ids[k] = cells[corners * c + k];
+    array->InsertNextCell(corners, ids);
   }
   mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   mesh->SetPoints(pts);
-  mesh->SetCells(VTK_TETRA, tets);
+  mesh->SetCells(type, array);
   share_groups(*mesh);
   return mesh;
 }

@@ -60,7 +60,7 @@ inline nlohmann::json without_timings(nlohmann::json j) {
 struct Frame {
   std::map<std::string, std::vector<double>> point, cell;  ///< name -> values by serial id
   std::vector<double> points;                              ///< 3 per node
-  std::vector<vtkIdType> cells;                            ///< 4 serial node ids per cell
+  std::vector<vtkIdType> cells;  ///< 4 serial node ids per cell (triangles: 3, then -1)
 };
 
 inline vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {
@@ -105,7 +105,8 @@ inline void add_piece(Frame& f, vtkUnstructuredGrid& g, bool pieces) {
     const auto at = static_cast<std::size_t>(4 * id(cells, c));
     if (f.cells.size() < at + 4) f.cells.resize(at + 4, -1);
     g.GetCellPoints(c, ids);
-    for (int k = 0; k < 4; ++k) f.cells[at + k] = id(nodes, ids->GetId(k));
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)  // (a triangle's slot 3 stays -1)
+      f.cells[at + k] = id(nodes, ids->GetId(k));
   }
 }
 

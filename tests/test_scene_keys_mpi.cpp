@@ -87,6 +87,14 @@ std::vector<Case> cases() {
       // table history and a delayed start: the case "table", below)
       {"kalthoff", quote(scenes + "kalthoff.ini") +
                        " --set run.end_time=35e-6 --set run.stop_when_cut_through=false"},
+      // 2D bodies (issue 53): the glass plate in plane stress at another thickness, cracking
+      // on edges; Kalthoff-Winkler in plane strain
+      {"glass-2d", quote(scenes + "glass-branching.ini") + " " +
+                       quote(scenes + "glass-branching-2d.ini") +
+                       " --set mesh.band_size=1e-3 --set run.end_time=50e-6"
+                       " --set mesh.thickness=0.8e-3"},
+      {"kalthoff-2d", quote(scenes + "kalthoff.ini") + " " + quote(scenes + "kalthoff-2d.ini") +
+                          " --set run.end_time=35e-6 --set run.stop_when_cut_through=false"},
   };
 }
 
@@ -107,9 +115,8 @@ const std::map<std::string, std::string>& key_table() {
     t["mesh.file"] = "test Mpi.SensorsRenderTimesAndGroupRegionsMatchTheSerialRun";
     t["mesh.parts"] = "test Mpi.PartitionedMeshRunHoldsNoWholeGridArray";
     t["mesh.max_elements"] = "none: a guard on the mesh's size, checked before any rank steps";
-    t["mesh.dimension"] = t["mesh.thickness"] = t["material.plane"] =
-        "none: a 2D body runs on one process for now (issue 53; Simulation::decompose refuses "
-        "it in one line)";
+    t["mesh.dimension"] = t["mesh.thickness"] = "case glass-2d";
+    t["material.plane"] = "case kalthoff-2d";
     t["loading.sigma_over_sigmac"] = "case rm";
     t["loading.sigma"] = "case cm-straight";
     t["initial.state"] = "case rm";

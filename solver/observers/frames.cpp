@@ -228,11 +228,12 @@ std::string parallel_summary(const char* type, vtkDataSet* piece,
 vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& halo) {
   vtkUnstructuredGrid* g = grid.vtk();
   std::vector<vtkIdType> node(grid.num_points(), -1), nodes, cells;
+  const int corners = grid.corners();
   for (vtkIdType e = 0; e < grid.num_cells(); ++e) {
     if (!halo.owns_cell(e)) continue;
     cells.push_back(e);
-    for (int k = 0; k < 4; ++k) {
-      const vtkIdType p = grid.cells()[4 * e + k];
+    for (int k = 0; k < corners; ++k) {
+      const vtkIdType p = grid.cells()[corners * e + k];
       if (node[p] < 0) node[p] = 0, nodes.push_back(p);
     }
   }
@@ -259,13 +260,14 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_piece(const Grid& grid, const Halo& ha
   auto global_cell = vtkSmartPointer<vtkIdTypeArray>::New();
   global_cell->SetName("global_cell");
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const vtkIdType* c = grid.cells() + 4 * cells[i];
-    const vtkIdType ids[4] = {node[c[0]], node[c[1]], node[c[2]], node[c[3]]};
-    connectivity->InsertNextCell(4, ids);
+    const vtkIdType* c = grid.cells() + corners * cells[i];
+    vtkIdType ids[4];
+    for (int k = 0; k < corners; ++k) ids[k] = node[c[k]];
+    connectivity->InsertNextCell(corners, ids);
     piece->GetCellData()->CopyData(g->GetCellData(), cells[i], static_cast<vtkIdType>(i));
     global_cell->InsertNextValue(halo.global_cell()[cells[i]]);
   }
-  piece->SetCells(VTK_TETRA, connectivity);
+  piece->SetCells(corners == 3 ? VTK_TRIANGLE : VTK_TETRA, connectivity);
   piece->GetCellData()->AddArray(global_cell);
   piece->GetFieldData()->ShallowCopy(g->GetFieldData());
   return piece;
@@ -315,7 +317,7 @@ vtkSmartPointer<vtkUnstructuredGrid> whole_grid(const Simulation& sim) {
     offset += g->GetNumberOfPoints();
   }
   all->SetPoints(points);
-  all->SetCells(VTK_TETRA, cells);
+  all->SetCells(sim.grid().corners() == 3 ? VTK_TRIANGLE : VTK_TETRA, cells);
   all->GetFieldData()->ShallowCopy(grids.front()->GetFieldData());
   return joined_by_serial_ids(*all, "the run's pieces");
 }

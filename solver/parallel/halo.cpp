@@ -117,8 +117,9 @@ void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
   // daughters at a corner of a local cell now, in increasing global id.
   std::vector<char> held(n, 0);
   for (std::size_t i = 0; i < mesh_nodes_; ++i) held[global_node_[i]] = 1;
+  const int corners = whole.corners();
   for (vtkIdType e : global_cell_)
-    for (int c = 0; c < 4; ++c) held[conn[4 * e + c]] = 1;
+    for (int c = 0; c < corners; ++c) held[conn[corners * e + c]] = 1;
   global_node_.clear(), owned_.clear(), owner_.clear(), split_local_.clear();
   std::vector<vtkIdType> local(n, -1);
   for (vtkIdType q = 0; q < n; ++q)
@@ -134,8 +135,8 @@ void Halo::recut(const Grid& whole, const std::vector<vtkIdType>& root,
   // owner holds every such cell.
   std::vector<Ghost> send, recv;
   for (std::size_t i = 0; i < global_cell_.size(); ++i)
-    for (int c = 0; c < 4; ++c) {
-      const vtkIdType q = conn[4 * global_cell_[i] + c], r = root_of(q);
+    for (int c = 0; c < corners; ++c) {
+      const vtkIdType q = conn[corners * global_cell_[i] + c], r = root_of(q);
       for (vtkIdType p : {q, r}) {
         if (owner[p] != rank_) continue;
         for (std::int64_t h = holder_start_[i]; h < holder_start_[i + 1]; ++h)

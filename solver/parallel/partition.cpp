@@ -17,6 +17,7 @@
 
 #include "element_forces.hpp"
 #include "error.hpp"
+#include "triangle_forces.hpp"
 
 namespace brittle {
 
@@ -44,13 +45,14 @@ namespace {
 void node_cells(const Grid& grid, std::vector<long>& start, std::vector<long>& cells) {
   const vtkIdType n = grid.num_points(), m = grid.num_cells();
   const vtkIdType* conn = grid.cells();
+  const int k = grid.corners();
   start.assign(n + 1, 0);
-  for (vtkIdType i = 0; i < 4 * m; ++i) ++start[conn[i] + 1];
+  for (vtkIdType i = 0; i < k * m; ++i) ++start[conn[i] + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  cells.resize(4 * m);
+  cells.resize(k * m);
   std::vector<long> fill(start.begin(), start.end() - 1);
   for (vtkIdType e = 0; e < m; ++e)
-    for (int c = 0; c < 4; ++c) cells[fill[conn[4 * e + c]]++] = e;
+    for (int c = 0; c < k; ++c) cells[fill[conn[k * e + c]]++] = e;
 }
 
 }  // namespace
@@ -65,11 +67,13 @@ Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach,
   p.parts = parts;
   p.cell_part.assign(m, 0);
   if (parts > 1 && m > 0) {
-    idx_t ne = static_cast<idx_t>(m), nn = static_cast<idx_t>(n), ncommon = 3,
+    // Neighbours across a face (a tet's 3 nodes) or an edge (a triangle's 2)
+    const int k = grid.corners();
+    idx_t ne = static_cast<idx_t>(m), nn = static_cast<idx_t>(n), ncommon = k - 1,
           nparts = parts, objval = 0;
-    std::vector<idx_t> eptr(m + 1), eind(4 * m), epart(m), npart(n);
-    for (vtkIdType e = 0; e <= m; ++e) eptr[e] = static_cast<idx_t>(4 * e);
-    for (vtkIdType i = 0; i < 4 * m; ++i) eind[i] = static_cast<idx_t>(grid.cells()[i]);
+    std::vector<idx_t> eptr(m + 1), eind(k * m), epart(m), npart(n);
+    for (vtkIdType e = 0; e <= m; ++e) eptr[e] = static_cast<idx_t>(k * e);
+    for (vtkIdType i = 0; i < k * m; ++i) eind[i] = static_cast<idx_t>(grid.cells()[i]);
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 1;        // the same grid, the same partition
@@ -89,7 +93,11 @@ Partition partition_grid(const Grid& grid, int parts, const GhostReach& reach,
 }
 
 BodySizes grid_body_sizes(const Grid& grid) {
-  // h_e as the run computes it (make_element_data: the same bits; the constants do not enter)
+  // h_e as the run computes it (make_element_data, make_triangle_data: the same bits; the
+  // constants and the thickness do not enter)
+  if (grid.corners() == 3)
+    return body_sizes(grid,
+                      make_triangle_data(grid, ElasticConstants{}, MaterialParams{}, 1.0).h_e);
   return body_sizes(grid, make_element_data(grid, ElasticConstants{}, MaterialParams{}).h_e);
 }
 
@@ -107,14 +115,21 @@ class Reach {
     centroid_.resize(3 * m);
     radius_.resize(m);
     double largest = 0;
+    const int corners = grid.corners();
     for (vtkIdType e = 0; e < m; ++e) {
       double* c = &centroid_[3 * e];
-      for (int a = 0; a < 3; ++a)
-        c[a] = 0.25 * (X[3 * conn[4 * e] + a] + X[3 * conn[4 * e + 1] + a] +
-                       X[3 * conn[4 * e + 2] + a] + X[3 * conn[4 * e + 3] + a]);
+      if (corners == 3) {
+        const vtkIdType* t = conn + 3 * e;
+        for (int a = 0; a < 3; ++a)
+          c[a] = (X[3 * t[0] + a] + X[3 * t[1] + a] + X[3 * t[2] + a]) / 3.0;
+      } else {
+        for (int a = 0; a < 3; ++a)
+          c[a] = 0.25 * (X[3 * conn[4 * e] + a] + X[3 * conn[4 * e + 1] + a] +
+                         X[3 * conn[4 * e + 2] + a] + X[3 * conn[4 * e + 3] + a]);
+      }
       double r2 = 0;
-      for (int k = 0; k < 4; ++k) {
-        const double* p = X + 3 * conn[4 * e + k];
+      for (int k = 0; k < corners; ++k) {
+        const double* p = X + 3 * conn[corners * e + k];
         r2 = std::max(r2, (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
                               (p[2] - c[2]) * (p[2] - c[2]));
       }
@@ -213,6 +228,7 @@ Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts
   // Per part: the cells it holds (owned, touching an owned node, the reach's), and their nodes.
   p.stats.assign(parts, {});
   const vtkIdType* conn = grid.cells();
+  const int corners = grid.corners();
   std::unique_ptr<Reach> far;
   if (parts > 1 && reach.distance > 0) far = std::make_unique<Reach>(grid, reach.distance);
   std::vector<int> cell_mark(m, -1), node_mark(n, -1), ring(n, -1);
@@ -234,7 +250,7 @@ Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts
     for (int layer = 2; layer <= reach.layers && parts > 1; ++layer) {
       for (vtkIdType e = 0; e < m; ++e)
         if (cell_mark[e] == r)
-          for (int c = 0; c < 4; ++c) ring[conn[4 * e + c]] = r;
+          for (int c = 0; c < corners; ++c) ring[conn[corners * e + c]] = r;
       for (vtkIdType k = 0; k < n; ++k)
         if (ring[k] == r)
           for (long i = start[k]; i < start[k + 1]; ++i) cell_mark[cells[i]] = r;
@@ -246,8 +262,8 @@ Partition partition_from(const Grid& grid, std::vector<int> cell_part, int parts
       held[r].push_back(e);
       ++count[e];
       if (p.cell_part[e] != r) ++s.ghost_cells;
-      for (int c = 0; c < 4; ++c) {
-        const vtkIdType q = conn[4 * e + c];
+      for (int c = 0; c < corners; ++c) {
+        const vtkIdType q = conn[corners * e + c];
         if (node_mark[q] == r || p.node_owner[q] == r) continue;
         node_mark[q] = r;
         ++s.ghost_nodes;
@@ -272,6 +288,7 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
                 " is not a part (expected 0 to ", partition.parts - 1, ")");
   const vtkIdType n = grid.num_points(), m = grid.num_cells();
   const vtkIdType* conn = grid.cells();
+  const int corners = grid.corners();
   // The cells the part holds (Partition::holders), then their nodes; both in global order.
   std::vector<char> cell_in(m, 0), node_in(n, 0);
   for (vtkIdType e = 0; e < m; ++e)
@@ -282,7 +299,7 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
   for (vtkIdType e = 0; e < m; ++e)
     if (cell_in[e]) {
       part.global_cell.push_back(e);
-      for (int c = 0; c < 4; ++c) node_in[conn[4 * e + c]] = 1;
+      for (int c = 0; c < corners; ++c) node_in[conn[corners * e + c]] = 1;
     }
   std::vector<vtkIdType> local(n, -1);
   for (vtkIdType k = 0; k < n; ++k)
@@ -298,13 +315,13 @@ LocalPart extract_part(const Grid& grid, const Partition& partition, int rank) {
     points->SetPoint(static_cast<vtkIdType>(i), grid.X() + 3 * part.global_node[i]);
   auto cells = vtkSmartPointer<vtkCellArray>::New();
   for (vtkIdType e : part.global_cell) {
-    const vtkIdType ids[4] = {local[conn[4 * e]], local[conn[4 * e + 1]], local[conn[4 * e + 2]],
-                              local[conn[4 * e + 3]]};
-    cells->InsertNextCell(4, ids);
+    vtkIdType ids[4];
+    for (int c = 0; c < corners; ++c) ids[c] = local[conn[corners * e + c]];
+    cells->InsertNextCell(corners, ids);
   }
   part.mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   part.mesh->SetPoints(points);
-  part.mesh->SetCells(VTK_TETRA, cells);
+  part.mesh->SetCells(corners == 3 ? VTK_TRIANGLE : VTK_TETRA, cells);
   auto bounds = vtkSmartPointer<vtkDoubleArray>::New();  // region boxes (boundary.cpp)
   bounds->SetName(kWholeBounds);
   bounds->SetNumberOfComponents(6);

@@ -101,9 +101,9 @@ std::vector<FacetOpening> FacetCriterion::agree(const Grid& grid,
   for (const FacetOpening& o : mine) {
     const vtkIdType f = o.face, e = f / 4;
     vtkIdType lowest = -1;
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < corners_; ++k)
       if (k != f % 4) {
-        const vtkIdType p = cells[4 * e + k];
+        const vtkIdType p = cells[corners_ * e + k];
         if (lowest < 0 || gnode[p] < gnode[lowest]) lowest = p;
       }
     if (!(*d.owned)[lowest]) continue;

@@ -58,8 +58,8 @@ void Grid::recut(const Grid& src, const Recut& r) {
   vtkIdType* conn = grid_->GetCells()->GetConnectivityArray64()->GetPointer(0);
   for (vtkIdType e = 0; e < num_cells_; ++e)
     if (const vtkIdType s = r.cell_from[e]; s >= 0)
-      for (int k = 0; k < 4; ++k)
-        conn[4 * e + k] = renamed(r.node_to, src.conn_[4 * s + k], "node");
+      for (int k = 0; k < corners_; ++k)
+        conn[corners_ * e + k] = renamed(r.node_to, src.conn_[corners_ * s + k], "node");
   refresh();
   grid_->GetPoints()->Modified();
   grid_->GetCells()->Modified();

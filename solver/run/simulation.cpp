@@ -176,8 +176,6 @@ CrackFronts Simulation::make_crack_fronts() const {
 
 void Simulation::decompose(Halo& halo) {
   BRITTLE_CHECK(steps_ == 0 && !resumed_, "decompose: the run has started");
-  BRITTLE_CHECK(grid_.corners() == 4, "mesh.dimension = 2 runs on one process for now (issue 53; "
-                "expected a run without mpirun)");
   // The part must hold the cells the criterion reads (docs/parallel.md, "Ghost depth").
   const GhostReach need = ghost_reach(scene_, body_), held = halo.reach();
   BRITTLE_CHECK(held.covers(need), "decomposed run: the parts hold ", held.layers,
