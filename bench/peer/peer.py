@@ -319,17 +319,24 @@ def cmd_brittle_metrics(argv):
     nb = len(branchings) if isinstance(branchings, list) else int(branchings)
     steps = S.get("steps")
     end = S.get("time") or S.get("end_time")
+    scene = S.get("scene") or {}
+    two_d = str(scene.get("mesh.dimension", 3)) == "2"  # a 2D body of triangles (issue 53)
+    kind = "triangles" if two_d else "tets"
+    element = ("linear triangles, plane %s" % scene.get("material.plane", "strain")) if two_d \
+        else "linear tets"
     r = {
         "code": "brittle %s (%s)" % (S.get("brittle_version", ""),
                                      (S.get("build") or {}).get("commit", "?")),
-        "method": "explicit FE (linear tets), node splitting at sigma_c + cohesive links (Block et al. 2006)",
-        "nodes": S.get("nodes"), "elements": S.get("tets"), "elements_kind": "tets",
+        "method": "explicit FE (%s), node splitting at sigma_c + cohesive links (Block et al. 2006)"
+                  % element,
+        "nodes": S.get("nodes"), "elements": S.get("tets"), "elements_kind": kind,
         "steps": steps,
         # the step is set by the smallest element (run.cfl); the mean step lands on 80 us
         "dt": end / steps if steps else None, "dt_initial": S.get("dt"),
         "dt_final": S.get("final_dt"), "procs": 1, "threads": S.get("threads"),
         "loop_time": S.get("wall_seconds"), "wall": wall, "cpu": cpu, "peak_rss_kB": rss,
-        "updates_per_s": S.get("tet_updates_per_second"), "updates_kind": "tet-updates/s",
+        "updates_per_s": S.get("tet_updates_per_second"),
+        "updates_kind": "triangle-updates/s" if two_d else "tet-updates/s",
         "phases": S.get("phases"), "splits": S.get("splits"), "branchings": nb,
         "nucleations": len(S.get("nucleated_cracks") or []),
         "tip_x": S.get("tip_x"), "tip_y": S.get("tip_y"), "crack_speed": S.get("crack_speed"),
@@ -416,7 +423,7 @@ def fmt_rate(v):
 
 def pattern_cell(r, png):
     d = r.get("pattern_detail", {})
-    if r["elements_kind"] == "tets":
+    if r["elements_kind"] != "bonds":  # brittle's (tets or triangles)
         text = r.get("pattern", "?")
         text += " (%s splits, %d branchings" % (fmt_int(r.get("splits")), r.get("branchings") or 0)
         ct = r.get("cut_through")
@@ -470,7 +477,7 @@ def cmd_table(argv):
             dt = "%.3g ns (%.2f of its stable step)" % (r["dt"] * 1e9, r["dt"] / r["dt_crit"])
             code = r["code"] + (", at brittle's dt" if kind == "lammps-matched-dt" else "")
         else:
-            rate = "%s tet-updates/s" % fmt_rate(r["updates_per_s"])
+            rate = "%s %s" % (fmt_rate(r["updates_per_s"]), r.get("updates_kind", "tet-updates/s"))
             dt = "%.3g ns (mean; cfl %s of its stable step)" % (r["dt"] * 1e9, r.get("cfl", "?"))
             code = r["code"]
         lines.append("| %s | %s | h = %s mm | %s | %s %s | %s | %s | %s | %s | %.0f MB | %s | %s |" % (
