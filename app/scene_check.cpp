@@ -48,7 +48,6 @@ void check_scene(const Scene& s, const Origins& o, const std::vector<std::string
                s.fracture.criterion == FractureParams::Criterion::nodal_stress ||
                s.fracture.criterion == FractureParams::Criterion::facet,
            "fracture.criterion", "fracture.criterion = nodal-stress or facet, or fracture.mode = none");
-    refuse(!s.damage.enabled(), "damage.beta1", "damage.beta1 = 0");
     // (the uniaxial pre-stress (B.6) is a plane-stress state: F33 = b, the element's root)
     refuse(s.initial.state == InitialParams::State::rest ||
                s.material.plane == MaterialParams::Plane::stress,

@@ -327,7 +327,7 @@ TEST(Mpi, StudyOverRanksEqualsTheSerialStudy) {
   }
 }
 
-/// `mpirun -np 1, 2, 3 brittle run` writes what the serial run writes, bit for bit: every CSV,
+/// `mpirun -np 2, 3 brittle run` writes what the serial run writes, bit for bit: every CSV,
 /// events, pattern, summary (timings aside) and the last frame's points, cells and arrays (put
 /// together from the pieces by serial id), for a straight crack and for branching with damage
 /// and rate-dependent links on CM; `brittle render` of the .pvd gives the serial PNGs.
@@ -361,7 +361,7 @@ TEST(Mpi, DecomposedRunWritesTheSerialFiles) {
     std::ifstream summary(serial / "summary.json");
     const nlohmann::json serial_summary = without_timings(nlohmann::json::parse(summary));
     EXPECT_GT(serial_summary["splits"].get<long>(), 20);
-    for (int ranks : {1, 2, 3}) {
+    for (int ranks : {2, 3}) {  // (one part: Decomposed.Ranks1, in one process)
       SCOPED_TRACE(ranks);
       const fs::path out = dir / (name + "_np" + std::to_string(ranks));
       const fs::path log = dir / (name + "_np" + std::to_string(ranks) + ".log");

@@ -69,10 +69,11 @@ ExactSum Damage::update(Grid& grid, const ElementData& el, ForceAssembler& force
   // Nodal sums of the corners of the changed cells, each node once.
   touched_nodes_.clear();
   touched_.resize(grid.num_points(), 0);
+  const int corners = grid.corners();
   for (const auto& changed : block_cells_)
     for (vtkIdType e : changed)
-      for (int k = 0; k < 4; ++k) {
-        const vtkIdType p = grid.cells()[4 * e + k];
+      for (int k = 0; k < corners; ++k) {
+        const vtkIdType p = grid.cells()[corners * e + k];
         if (!touched_[p]) touched_[p] = 1, touched_nodes_.push_back(p);
       }
   for (vtkIdType p : touched_nodes_) touched_[p] = 0;  // the order of the sums does not matter

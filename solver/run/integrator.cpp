@@ -239,9 +239,10 @@ void Integrator::kick(const double* force, double tau, double t_force, double t_
   double* v = grid_.v();
   const double* m = grid_.mass();
   const std::uint8_t* fixed = grid_.fixed();
+  const int dim = grid_.dimension();  // (a 2D body's z components stay 0)
 #pragma omp parallel for schedule(static)
   for (vtkIdType i = 0; i < np; ++i) {
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < dim; ++k)
       if (!(fixed[i] & (1 << k))) v[3 * i + k] += tau * force[3 * i + k] / m[i];
   }
   boundary_.after_kick(grid_, force, tau, t_force, t_velocity);
@@ -253,10 +254,11 @@ void Integrator::drift_unlinked(double dt) {
   const double* v = grid_.v();
   const std::uint8_t* linked = links_.linked().data();
   // Fixed components have v = 0, prescribed ones v(t(n) + dt/2): every node drifts.
+  const int dim = grid_.dimension();  // (a 2D body's z components stay 0)
 #pragma omp parallel for schedule(static)
   for (vtkIdType i = 0; i < np; ++i) {
     if (linked[i]) continue;  // linked nodes drift in advance_links
-    for (int k = 0; k < 3; ++k) x[3 * i + k] += dt * v[3 * i + k];
+    for (int k = 0; k < dim; ++k) x[3 * i + k] += dt * v[3 * i + k];
   }
 }
 
