@@ -696,27 +696,7 @@ void ForceAssembler::gather(const std::vector<vtkIdType>& nodes) {
 
 void ForceAssembler::scale_elastic(const Grid& grid, vtkIdType e, double factor) {
   // f_el,i = -v T_el grad N_i: only T_el changes, by `factor`; add (factor - 1) f_el.
-  if (corners_ == 3) {  // a triangle: in-plane, v = J V0 (the volume of the last compute)
-    const vtkIdType* n = grid.cells() + 3 * e;
-    Eigen::Matrix2d Ds;
-    for (int k = 0; k < 2; ++k)
-      for (int i = 0; i < 2; ++i) Ds(i, k) = grid.x()[3 * n[k + 1] + i] - grid.x()[3 * n[0] + i];
-    double* s = grid.stress() + 6 * e;
-    Eigen::Matrix2d T2;
-    T2 << s[0], s[3], s[3], s[1];
-    const Eigen::Matrix2d df = -(factor - 1.0) * volume_[e] * T2 * Ds.inverse().transpose();
-    const Eigen::Vector2d df0 = -df.rowwise().sum();
-    store(e / kLanes);
-    double* out = element_force_.data() + 12 * e;
-    for (int k = 0; k < 2; ++k) {
-      out[k] += df0[k];
-      out[3 + k] += df(k, 0);
-      out[6 + k] += df(k, 1);
-    }
-    for (int j = 0; j < 6; ++j) s[j] *= factor;
-    sigma1_bound_[e] *= factor;
-    return;
-  }
+  if (corners_ == 3) return scale_triangle(grid, e, factor);
   const Mat3 Ds = edge_matrix(grid.x(), grid.cells() + 4 * e);
   double det_Ds, inv_det_Ds;
   const Mat3 G = inverse_with_det(Ds, det_Ds, inv_det_Ds);

@@ -275,6 +275,8 @@ class ForceAssembler {
   void triangle_block(Block& B, const double* omega, double dt, double* work,
                       double (*f)[kLanes], double (*s)[kLanes], double* J, double* alpha1,
                       double* vol, double* bound) const;
+  /// scale_elastic of a triangle (triangle_forces.cpp).
+  void scale_triangle(const Grid& grid, vtkIdType e, double factor);
 
   const Grid* grid_;
   const ElementData* elements_;

@@ -253,6 +253,28 @@ void ForceAssembler::triangle_block(Block& B, const double* omega, double dt, do
   }
 }
 
+void ForceAssembler::scale_triangle(const Grid& grid, vtkIdType e, double factor) {
+  // -(factor - 1) v T2 G^T on corners 1, 2 (G = Ds^-1, v = J V0 of the last compute)
+  const vtkIdType* n = grid.cells() + 3 * e;
+  Eigen::Matrix2d Ds;
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 2; ++i) Ds(i, k) = grid.x()[3 * n[k + 1] + i] - grid.x()[3 * n[0] + i];
+  double* s = grid.stress() + 6 * e;
+  Eigen::Matrix2d T2;
+  T2 << s[0], s[3], s[3], s[1];
+  const Eigen::Matrix2d df = -(factor - 1.0) * volume_[e] * T2 * Ds.inverse().transpose();
+  const Eigen::Vector2d df0 = -df.rowwise().sum();
+  store(e / kLanes);
+  double* out = element_force_.data() + 12 * e;
+  for (int k = 0; k < 2; ++k) {
+    out[k] += df0[k];
+    out[3 + k] += df(k, 0);
+    out[6 + k] += df(k, 1);
+  }
+  for (int j = 0; j < 6; ++j) s[j] *= factor;
+  sigma1_bound_[e] *= factor;
+}
+
 template void ForceAssembler::triangle_block<true>(Block&, const double*, double, double*,
                                                    double (*)[kLanes], double (*)[kLanes],
                                                    double*, double*, double*, double*) const;
