@@ -82,6 +82,19 @@ TEST(Executable, CriterionLengthsNoBodyCanUseAreRefused) {
                    {"fracture.length = 1e+06 m is longer than the body"});
 }
 
+// What a 2D body does not have yet is refused with one line naming the key and the file
+// (issue 53; docs/model.md, "Two dimensions").
+TEST(Executable, WhatA2DBodyLacksIsRefused) {
+  TempDir dir;
+  const std::string two_d =
+      std::string(kLoad) + "[mesh]\ndimension = 2\n[material]\nplane = stress\n";
+  expect_run_fails(dir, "bad.ini",
+                   two_d + "[fracture]\nmode = branching\ncriterion = coupled-facet\n",
+                   {"bad.ini", "fracture.criterion", "mesh.dimension = 2"});
+  expect_run_fails(dir, "bad.ini", two_d + "[run]\nmass_scaling = 1e-8\n",
+                   {"bad.ini", "run.mass_scaling", "mesh.dimension = 2"});
+}
+
 // A material length the mesh does not resolve runs, with one warning line that says so.
 TEST(Executable, UnresolvedMaterialLengthWarns) {
   TempDir dir;
