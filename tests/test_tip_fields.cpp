@@ -17,6 +17,7 @@
 #include "crack_tip.hpp"
 #include "jitter.hpp"
 #include "material.hpp"
+#include "plane.hpp"
 #include "plate_mesh.hpp"
 #include "scene_options.hpp"
 #include "simulation.hpp"
@@ -330,6 +331,88 @@ TEST(TipFields, JIntegralOfTheStaticKFieldIsKSquaredOverE) {
       const JIntegral J =
           dynamic_j_integral(m.fields(g.c), m.tip_x, 0.0, 0.0, r_in, r_out, m.thickness);
       EXPECT_NEAR(J.J / expected, 1.0, 0.02) << r_in << " " << r_out;
+      EXPECT_NEAR(J.inertia, 0.0, 1e-12 * expected);
+    }
+  }
+}
+
+/// The same plate as a 2D body (issue 53): squares of side s cut into two triangles each, the
+/// crack's nodes doubled, the in-plane field laid on the nodes and the stress from the code's
+/// law in plane stress (out_of_plane_stretch, (B.4)); V0 = area x thickness s.
+FieldMesh triangle_field_mesh(double s, double half, const ElasticConstants& c,
+                              const TipField& field) {
+  FieldMesh m;
+  const int n = static_cast<int>(std::round(half / s));
+  const int w = 2 * n + 1;
+  m.tip_x = 0.3 * s, m.thickness = s;
+  auto id = [&](int i, int j) { return static_cast<vtkIdType>((j + n) * w + (i + n)); };
+  std::vector<vtkIdType> lower(w, -1);  // the lower face's nodes (j = 0, i <= 0)
+  vtkIdType next = static_cast<vtkIdType>(w) * w;
+  for (int i = -n; i <= 0; ++i) lower[i + n] = next++;
+  const auto nodes = static_cast<std::size_t>(next);
+  m.X.assign(3 * nodes, 0), m.x.assign(3 * nodes, 0), m.v.assign(3 * nodes, 0);
+  m.a.assign(3 * nodes, 0);
+  auto lay = [&](vtkIdType node, double X, double Y, bool on_lower) {
+    double u[2], ux[2], uxx[2], div;
+    field.at(X - m.tip_x, on_lower ? -0.0 : Y, u, ux, uxx, div);
+    m.X[3 * node] = X, m.X[3 * node + 1] = Y;
+    m.x[3 * node] = X + u[0], m.x[3 * node + 1] = Y + u[1];
+    for (int d = 0; d < 2; ++d) m.v[3 * node + d] = ux[d], m.a[3 * node + d] = uxx[d];
+  };
+  for (int j = -n; j <= n; ++j)
+    for (int i = -n; i <= n; ++i) {
+      lay(id(i, j), i * s, j * s, false);
+      if (j == 0 && i <= 0) lay(lower[i + n], i * s, 0.0, true);
+    }
+  const int halves[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+  for (int j = -n; j < n; ++j)
+    for (int i = -n; i < n; ++i)
+      for (const auto& tri : halves) {
+        vtkIdType corner[3];
+        for (int q = 0; q < 3; ++q) {
+          const int ci = i + tri[q][0], cj = j + tri[q][1];
+          corner[q] = (cj == 0 && j == -1 && ci <= 0) ? lower[ci + n] : id(ci, cj);
+        }
+        Eigen::Matrix2d Dm, Ds;
+        for (int q = 1; q < 3; ++q)
+          for (int d = 0; d < 2; ++d) {
+            Dm(d, q - 1) = m.X[3 * corner[q] + d] - m.X[3 * corner[0] + d];
+            Ds(d, q - 1) = m.x[3 * corner[q] + d] - m.x[3 * corner[0] + d];
+          }
+        const Eigen::Matrix2d inv = Dm.inverse(), F2 = Ds * inv;
+        Mat3 F = Mat3::Zero();
+        F.topLeftCorner<2, 2>() = F2;
+        F(2, 2) = out_of_plane_stretch(MaterialParams::Plane::stress, F2.determinant(),
+                                       F2.squaredNorm(), c.K, c.mu);
+        const Mat3 T = elastic_stress(F, c.K, c.mu, 0.0);  // (B.4)
+        for (vtkIdType q : corner) m.cells.push_back(q);
+        for (double v : {inv(0, 0), inv(0, 1), 0.0, inv(1, 0), inv(1, 1), 0.0, 0.0, 0.0, 1.0})
+          m.Dm_inv.push_back(v);
+        m.V0.push_back(0.5 * Dm.determinant() * s);
+        for (double t : {T(0, 0), T(1, 1), T(2, 2), T(0, 1), 0.0, 0.0}) m.stress.push_back(t);
+      }
+  return m;
+}
+
+// The 2D body's J-integral (triangles, plane stress): K^2 / E on the same rings in modes I, II
+// and mixed, to 0.5 % (measured: within 3e-5 on these right triangles; with the energy of plane
+// strain in place of plane stress's, 2.2 % off: the test sees the plane state); no inertia in a
+// static field.
+TEST(TipFields, JIntegralOverTrianglesOfTheStaticKFieldIsKSquaredOverE) {
+  const Glass g;
+  const double K = 1e5, E = g.m.E, s = 0.5e-3;
+  const std::pair<double, double> modes[] = {{K, 0}, {0, K}, {K, 0.5 * K}};
+  for (const auto& [KI, KII] : modes) {
+    SCOPED_TRACE(::testing::Message() << "K_I " << KI << " K_II " << KII);
+    const FieldMesh m = triangle_field_mesh(s, 12e-3, g.c, williams(KI, KII, g.c.mu, g.m.nu));
+    JIntegralFields f = m.fields(g.c);
+    f.corners = 3, f.plane = MaterialParams::Plane::stress;
+    const double expected = (KI * KI + KII * KII) / E;
+    for (const auto& [r_in, r_out] : {std::pair{3e-3, 10e-3}, std::pair{2e-3, 6e-3}}) {
+      const JIntegral J = dynamic_j_integral(f, m.tip_x, 0.0, 0.0, r_in, r_out, m.thickness);
+      std::cout << "K_I " << KI << " K_II " << KII << " rings " << r_in << "-" << r_out
+                << ": J / (K^2/E) = " << J.J / expected << "\n";
+      EXPECT_NEAR(J.J / expected, 1.0, 0.005) << r_in << " " << r_out;
       EXPECT_NEAR(J.inertia, 0.0, 1e-12 * expected);
     }
   }

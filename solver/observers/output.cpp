@@ -153,9 +153,7 @@ OutputWriters::OutputWriters(const Simulation& sim) {
   writers_.push_back(std::make_unique<EnergyCsvWriter>(dir, sim.resumed()));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<CrackTipCsvWriter>(dir));
   if (sim.fracture().enabled()) writers_.push_back(std::make_unique<PatternWriter>(dir));
-  // (the tip fields' J-integral is over tets: a 2D body has none yet, issue 53)
-  if (sim.fracture().enabled() && sim.grid().corners() == 4)
-    writers_.push_back(std::make_unique<TipFieldsWriter>(dir));
+  if (sim.fracture().enabled()) writers_.push_back(std::make_unique<TipFieldsWriter>(dir));
   if (!sim.scene().sensors.empty())
     writers_.push_back(std::make_unique<SensorRecorder>(sim.scene(), dir));
   writers_.push_back(std::make_unique<SummaryWriter>(dir));

@@ -13,6 +13,7 @@
 #include "error.hpp"
 #include "material.hpp"
 #include "output.hpp"
+#include "plane.hpp"
 
 namespace brittle {
 
@@ -90,12 +91,84 @@ double tip_direction_deg(const TipTrack& tip, double behind) {
   return std::isfinite(tip.start_angle_deg) ? tip.start_angle_deg : 0.0;
 }
 
+namespace {
+
+/// dynamic_j_integral over a 2D body's triangles: the same integrand in the plane, the
+/// products of linear fields integrated exactly over a triangle, int a b dV = V / 12 (sum_k
+/// a_k b_k + (sum_k a_k)(sum_k b_k)); W (B.2) of F = diag(I + H, lambda) with the plane
+/// state's lambda (docs/j-integral.md, "Two dimensions").
+JIntegral triangle_j_integral(const JIntegralFields& f, double x, double y, double phi,
+                              double r_in, double r_out, double thickness) {
+  const Eigen::Vector2d d(std::cos(phi), std::sin(phi));
+  const double reach2 = r_out * r_out;
+  JIntegral out;
+  for (vtkIdType e = 0; e < f.num_cells; ++e) {
+    const vtkIdType* n = f.cells + 3 * e;
+    double q[3];
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      const double* p = f.X + 3 * n[k];
+      const double r2 = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
+      q[k] = r2 >= reach2 ? 0.0 : std::clamp((r_out - std::sqrt(r2)) / (r_out - r_in), 0.0, 1.0);
+      any = any || q[k] > 0;
+    }
+    if (!any) continue;
+    const double* D = f.Dm_inv + 9 * e;
+    Eigen::Matrix2d Dm_inv, du, dv;
+    Dm_inv << D[0], D[1], D[3], D[4];
+    Eigen::RowVector2d dq;
+    for (int k = 1; k < 3; ++k) {
+      for (int i = 0; i < 2; ++i) {
+        du(i, k - 1) =
+            (f.x[3 * n[k] + i] - f.X[3 * n[k] + i]) - (f.x[3 * n[0] + i] - f.X[3 * n[0] + i]);
+        dv(i, k - 1) = f.v[3 * n[k] + i] - f.v[3 * n[0] + i];
+      }
+      dq(k - 1) = q[k] - q[0];
+    }
+    const Eigen::Matrix2d H = du * Dm_inv;
+    const Eigen::Vector2d grad_q = (dq * Dm_inv).transpose();
+    const Eigen::Vector2d u_1 = H * d, v_1 = (dv * Dm_inv) * d;
+    const double* s = f.stress + 6 * e;
+    Eigen::Matrix2d sigma;
+    sigma << s[0], s[3], s[3], s[1];
+    const double V = f.V0[e], omega = f.omega ? f.omega[e] : 0.0;
+    Eigen::Vector2d v_sum = Eigen::Vector2d::Zero(), qv_sum = v_sum, a_sum = v_sum, qa_sum = v_sum;
+    double vv = 0, q_sum = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d vk(f.v[3 * n[k]], f.v[3 * n[k] + 1]);
+      v_sum += vk, qv_sum += q[k] * vk, vv += vk.squaredNorm(), q_sum += q[k];
+      if (f.a) {
+        const Eigen::Vector2d ak(f.a[3 * n[k]], f.a[3 * n[k] + 1]);
+        a_sum += ak, qa_sum += q[k] * ak;
+      }
+    }
+    const double kinetic = 0.5 * f.rho0 * (vv + v_sum.squaredNorm()) / 12.0;  // mean of K
+    const Eigen::Matrix2d F2 = Eigen::Matrix2d::Identity() + H;
+    Mat3 F = Mat3::Zero();
+    F.topLeftCorner<2, 2>() = F2;
+    F(2, 2) = out_of_plane_stretch(f.plane, F2.determinant(), F2.squaredNorm(), f.K, f.mu);
+    const double W = strain_energy_density(F, f.K, f.mu, omega);  // (B.2)
+    out.ring += V * ((sigma * grad_q).dot(u_1) - (W + kinetic) * grad_q.dot(d));
+    const Eigen::Vector2d int_qa = (V / 12.0) * (qa_sum + q_sum * a_sum);
+    const Eigen::Vector2d int_qv = (V / 12.0) * (qv_sum + q_sum * v_sum);
+    const double inertia = f.rho0 * (int_qa.dot(u_1) - int_qv.dot(v_1));
+    out.inertia += inertia;
+    if (q[0] == 1.0 && q[1] == 1.0 && q[2] == 1.0) out.inertia_inside += inertia;
+  }
+  out.ring /= thickness, out.inertia /= thickness, out.inertia_inside /= thickness;
+  out.J = out.ring + out.inertia;
+  return out;
+}
+
+}  // namespace
+
 JIntegral dynamic_j_integral(const JIntegralFields& f, double x, double y, double direction_deg,
                              double r_in, double r_out, double thickness) {
   BRITTLE_CHECK(r_out > r_in && r_in >= 0 && thickness > 0,
                 "dynamic_j_integral: need 0 <= r_in < r_out and thickness > 0, got r_in = ", r_in,
                 ", r_out = ", r_out, ", thickness = ", thickness);
   const double phi = direction_deg * std::numbers::pi / 180.0;
+  if (f.corners == 3) return triangle_j_integral(f, x, y, phi, r_in, r_out, thickness);
   const Vec3 d(std::cos(phi), std::sin(phi), 0.0);  // the 1-axis of the tip's frame
   const double reach2 = r_out * r_out;
   JIntegral out;
@@ -205,12 +278,21 @@ void TipFieldsWriter::ensure_probe(const Simulation& sim) {
   const vtkIdType* cells = grid.cells();
   std::vector<double> centroids(2 * static_cast<std::size_t>(grid.num_cells()));
   double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
-  for (vtkIdType e = 0; e < grid.num_cells(); ++e)
-    for (int k = 0; k < 4; ++k) {
-      const double* p = X + 3 * cells[4 * e + k];
-      centroids[2 * e] += 0.25 * p[0], centroids[2 * e + 1] += 0.25 * p[1];
-      z_min = std::min(z_min, p[2]), z_max = std::max(z_max, p[2]);
-    }
+  if (grid.corners() == 3) {  // a 2D body: its thickness is the elements' (mesh.thickness)
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+      for (int k = 0; k < 3; ++k) {
+        const double* p = X + 3 * cells[3 * e + k];
+        centroids[2 * e] += p[0] / 3.0, centroids[2 * e + 1] += p[1] / 3.0;
+      }
+    z_min = 0, z_max = sim.elements().thickness;
+  } else {
+    for (vtkIdType e = 0; e < grid.num_cells(); ++e)
+      for (int k = 0; k < 4; ++k) {
+        const double* p = X + 3 * cells[4 * e + k];
+        centroids[2 * e] += 0.25 * p[0], centroids[2 * e + 1] += 0.25 * p[1];
+        z_min = std::min(z_min, p[2]), z_max = std::max(z_max, p[2]);
+      }
+  }
   h_ = sim.fronts().join() / 4.0;  // the typical element size (Simulation: join = 4 h)
   thickness_ = z_max > z_min ? z_max - z_min : 1.0;
   probe_ = std::make_unique<StressProbe>(std::move(centroids), sim.elements().V0,
@@ -295,6 +377,7 @@ void TipFieldsWriter::on_energy(const Simulation& sim, const Energies& e) {
   fields.stress = grid.stress(), fields.omega = grid.damage();
   fields.Dm_inv = sim.elements().Dm_inv.data(), fields.V0 = sim.elements().V0.data();
   fields.rho0 = c.rho0, fields.K = c.K, fields.mu = c.mu;
+  fields.corners = grid.corners(), fields.plane = sim.scene().material.plane;
   if (t_now_ == t && t_before_ >= 0 && t_before_ < t_now_) {
     acceleration_.resize(v_now_.size());
     const double inv_dt = 1.0 / (t_now_ - t_before_);

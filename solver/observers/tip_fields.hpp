@@ -64,6 +64,10 @@ struct JIntegralFields {
   const double* V0 = nullptr;
   const double* omega = nullptr;   ///< damage per cell; nullptr: none
   double rho0 = 0, K = 0, mu = 0;  ///< density, bulk and shear moduli (B.3)
+  /// 4: tets; 3: a 2D body's triangles (Dm_inv in the 3x3 slots 0, 1, 3, 4, V0 = area x
+  /// thickness), whose energy (B.2) takes F33 from the plane state
+  int corners = 4;
+  MaterialParams::Plane plane = MaterialParams::Plane::strain;
 };
 
 /// The dynamic J-integral split into its two parts: J = ring + inertia (see dynamic_j_integral).
