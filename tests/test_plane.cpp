@@ -165,6 +165,13 @@ Scene glass_2d(MaterialParams::Plane plane, double end_time) {
   return s;
 }
 
+/// The same plate on a coarse mesh (4 mm, 2 mm band), at rest: for the kernel's tests.
+Scene coarse_glass_2d(MaterialParams::Plane plane) {
+  Scene s = glass_2d(plane, 1e-6);
+  s.mesh.size = 4e-3, s.mesh.band_size = 2e-3;
+  return s;
+}
+
 /// mesh.dimension = 2: Gmsh's triangles of the notched glass plate, counter-clockwise in
 /// z = 0, covering the plate's area less the notch's.
 TEST(Plane, GeneratedPlateIsTrianglesOfThePlatesArea) {
@@ -248,8 +255,7 @@ TEST(Plane, FacetCracksOnEdgesKeepTheBudgetOnAnyThreadCount) {
 TEST(Plane, BlockedTrianglesEqualTheReferenceAndTheirRecomputedBits) {
   for (const auto plane : {MaterialParams::Plane::stress, MaterialParams::Plane::strain}) {
     SCOPED_TRACE(plane == MaterialParams::Plane::strain ? "strain" : "stress");
-    Scene s = glass_2d(plane, 1e-6);
-    s.mesh.size = 4e-3, s.mesh.band_size = 2e-3;
+    const Scene s = coarse_glass_2d(plane);
     auto mesh = make_mesh(s);
     Simulation sim(s, *mesh);
     Grid& g = sim.grid();
@@ -408,8 +414,7 @@ TEST(Straight, PapersCrackIn2DPlaneStressRunsAsTheOneLayerPlate) {
 TEST(Plane, DamageOnTrianglesScalesTheForcesAndKeepsTheBudget) {
   for (const auto plane : {MaterialParams::Plane::stress, MaterialParams::Plane::strain}) {
     SCOPED_TRACE(plane == MaterialParams::Plane::strain ? "strain" : "stress");
-    Scene s = glass_2d(plane, 1e-6);
-    s.mesh.size = 4e-3, s.mesh.band_size = 2e-3;
+    const Scene s = coarse_glass_2d(plane);
     auto mesh = make_mesh(s);
     Simulation sim(s, *mesh);
     Grid& g = sim.grid();

@@ -93,6 +93,23 @@ double tip_direction_deg(const TipTrack& tip, double behind) {
 
 namespace {
 
+/// The weight q of the domain integral at cell e's corners (1 inside r_in, 0 past r_out,
+/// linear in r between); false when every corner has q = 0.
+template <int Corners>
+bool corner_weights(const JIntegralFields& f, vtkIdType e, double x, double y, double r_in,
+                    double r_out, double q[Corners]) {
+  const vtkIdType* n = f.cells + Corners * e;
+  const double reach2 = r_out * r_out;
+  bool any = false;
+  for (int k = 0; k < Corners; ++k) {
+    const double* p = f.X + 3 * n[k];
+    const double r2 = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
+    q[k] = r2 >= reach2 ? 0.0 : std::clamp((r_out - std::sqrt(r2)) / (r_out - r_in), 0.0, 1.0);
+    any = any || q[k] > 0;
+  }
+  return any;
+}
+
 /// dynamic_j_integral over a 2D body's triangles: the same integrand in the plane, the
 /// products of linear fields integrated exactly over a triangle, int a b dV = V / 12 (sum_k
 /// a_k b_k + (sum_k a_k)(sum_k b_k)); W (B.2) of F = diag(I + H, lambda) with the plane
@@ -100,19 +117,11 @@ namespace {
 JIntegral triangle_j_integral(const JIntegralFields& f, double x, double y, double phi,
                               double r_in, double r_out, double thickness) {
   const Eigen::Vector2d d(std::cos(phi), std::sin(phi));
-  const double reach2 = r_out * r_out;
   JIntegral out;
   for (vtkIdType e = 0; e < f.num_cells; ++e) {
     const vtkIdType* n = f.cells + 3 * e;
     double q[3];
-    bool any = false;
-    for (int k = 0; k < 3; ++k) {
-      const double* p = f.X + 3 * n[k];
-      const double r2 = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
-      q[k] = r2 >= reach2 ? 0.0 : std::clamp((r_out - std::sqrt(r2)) / (r_out - r_in), 0.0, 1.0);
-      any = any || q[k] > 0;
-    }
-    if (!any) continue;
+    if (!corner_weights<3>(f, e, x, y, r_in, r_out, q)) continue;
     const double* D = f.Dm_inv + 9 * e;
     Eigen::Matrix2d Dm_inv, du, dv;
     Dm_inv << D[0], D[1], D[3], D[4];
@@ -170,19 +179,11 @@ JIntegral dynamic_j_integral(const JIntegralFields& f, double x, double y, doubl
   const double phi = direction_deg * std::numbers::pi / 180.0;
   if (f.corners == 3) return triangle_j_integral(f, x, y, phi, r_in, r_out, thickness);
   const Vec3 d(std::cos(phi), std::sin(phi), 0.0);  // the 1-axis of the tip's frame
-  const double reach2 = r_out * r_out;
   JIntegral out;
   for (vtkIdType e = 0; e < f.num_cells; ++e) {
     const vtkIdType* n = f.cells + 4 * e;
     double q[4];
-    bool any = false;
-    for (int k = 0; k < 4; ++k) {
-      const double* p = f.X + 3 * n[k];
-      const double r2 = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
-      q[k] = r2 >= reach2 ? 0.0 : std::clamp((r_out - std::sqrt(r2)) / (r_out - r_in), 0.0, 1.0);
-      any = any || q[k] > 0;
-    }
-    if (!any) continue;
+    if (!corner_weights<4>(f, e, x, y, r_in, r_out, q)) continue;
     // Gradients of the linear fields: grad(f)_j = sum_k (f_k - f_0) (Dm^-1)_kj.
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Dm_inv(f.Dm_inv + 9 * e);
     Mat3 du, dv;  // columns: corner k minus corner 0
